@@ -1,0 +1,3 @@
+//! Analysis on top of the physics: the drag sweep (and, later, fitting and diagnosis).
+
+pub mod sweep;

@@ -1,0 +1,145 @@
+//! The drag sweep: runs on a grid of `(C1, C2, C3)` in parallel (rayon), each classified by
+//! its motion. This is the paper's search for "all orbits that resemble the experiment" and
+//! the coarse stage of the fit.
+
+use crate::physics::motion::analyze;
+use crate::physics::{EndReason, Initial, Model, RunOptions, Sample, Simulation};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::io::{self, Write};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One axis of the grid: `n` values from `lo` to `hi`, log-spaced (all positive) or linear.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis {
+    pub lo: f64,
+    pub hi: f64,
+    pub n: usize,
+    pub log: bool,
+}
+
+impl Axis {
+    pub fn values(&self) -> Vec<f64> {
+        if self.n == 1 {
+            return vec![self.lo];
+        }
+        (0..self.n)
+            .map(|i| {
+                let f = i as f64 / (self.n - 1) as f64;
+                if self.log {
+                    (self.lo.ln() + f * (self.hi.ln() - self.lo.ln())).exp()
+                } else {
+                    self.lo + f * (self.hi - self.lo)
+                }
+            })
+            .collect()
+    }
+
+    pub fn validate(&self, name: &str) -> Result<(), String> {
+        if self.n == 0 {
+            return Err(format!("{name}: the grid needs at least one point"));
+        }
+        if !(self.lo.is_finite() && self.hi.is_finite()) || self.lo < 0.0 || self.hi < self.lo {
+            return Err(format!("{name}: range [{}, {}] must be finite with 0 <= lo <= hi", self.lo, self.hi));
+        }
+        if self.log && self.lo <= 0.0 {
+            return Err(format!("{name}: a logarithmic range must start above 0"));
+        }
+        Ok(())
+    }
+}
+
+/// How one run of the sweep went.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SweepRow {
+    pub c: [f64; 3],
+    pub retrograde_turn: bool,
+    pub inflection_time: Option<f64>,
+    pub prograde_cycles: usize,
+    pub cycles_before_retrograde: usize,
+    pub end_reason: &'static str,
+    pub t_end: f64,
+    pub steps: u64,
+}
+
+/// Runs every grid point; `progress` is called with the number of runs done so far.
+pub fn run_sweep(
+    model: &Model,
+    initial: &Initial,
+    opts: &RunOptions,
+    axes: [Axis; 3],
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<SweepRow> {
+    let [a1, a2, a3] = axes.map(|a| a.values());
+    let mut grid = Vec::with_capacity(a1.len() * a2.len() * a3.len());
+    for &c1 in &a1 {
+        for &c2 in &a2 {
+            for &c3 in &a3 {
+                grid.push([c1, c2, c3]);
+            }
+        }
+    }
+    let opts = RunOptions { sample_dt: None, track_validity: false, ..opts.clone() };
+    let done = AtomicUsize::new(0);
+    grid.par_iter()
+        .map(|&c| {
+            let row = classify(model, initial, &opts, c);
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            row
+        })
+        .collect()
+}
+
+/// One run with drag `c`, classified.
+pub fn classify(model: &Model, initial: &Initial, opts: &RunOptions, c: [f64; 3]) -> SweepRow {
+    let mut m = model.clone();
+    m.c_drag = c;
+    let start = Sample::new(&m, 0.0, &initial.to_state());
+    match Simulation::new(m, initial, opts.clone()) {
+        Ok(sim) => {
+            let summary = sim.run(&mut |_| {});
+            let motion = analyze(&start, &summary.turning_points, summary.t_end);
+            SweepRow {
+                c,
+                retrograde_turn: motion.retrograde_turn,
+                inflection_time: motion.inflection_time,
+                prograde_cycles: motion.prograde_cycles,
+                cycles_before_retrograde: motion.cycles_before_retrograde,
+                end_reason: summary.end_reason.as_str(),
+                t_end: summary.t_end,
+                steps: summary.stats.steps,
+            }
+        }
+        Err(_) => SweepRow {
+            c,
+            retrograde_turn: false,
+            inflection_time: None,
+            prograde_cycles: 0,
+            cycles_before_retrograde: 0,
+            end_reason: EndReason::NonFinite.as_str(),
+            t_end: 0.0,
+            steps: 0,
+        },
+    }
+}
+
+pub fn write_csv(out: &mut impl Write, rows: &[SweepRow]) -> io::Result<()> {
+    writeln!(out, "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps")?;
+    for r in rows {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{}",
+            r.c[0],
+            r.c[1],
+            r.c[2],
+            r.retrograde_turn,
+            r.inflection_time.map(|t| t.to_string()).unwrap_or_default(),
+            r.prograde_cycles,
+            r.cycles_before_retrograde,
+            r.end_reason,
+            r.t_end,
+            r.steps
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,142 @@
+//! `ringlab bench`: the speed figures of the README, measured on this machine.
+
+use super::case_args::CaseArgs;
+use anyhow::Result;
+use clap::Args;
+use ringlab::analysis::sweep::{Axis, run_sweep};
+use ringlab::physics::integrator::{System, Tolerances};
+use ringlab::physics::{RunOptions, Simulation};
+use serde::Serialize;
+use std::hint::black_box;
+use std::time::Instant;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Repetitions of the single run (the median is reported)
+    #[arg(long, default_value_t = 31)]
+    pub repeats: usize,
+    /// Grid points per coefficient in the sweep benchmark
+    #[arg(long, default_value_t = 32)]
+    pub sweep_n: usize,
+    /// Threads for the sweep
+    #[arg(long, default_value_t = 2)]
+    pub threads: usize,
+    /// Leave out the sweep (about half a minute)
+    #[arg(long)]
+    pub skip_sweep: bool,
+    /// Print the figures as JSON
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize, Debug)]
+struct BenchReport {
+    case: String,
+    rhs_ns: f64,
+    run_to_rest_ms: f64,
+    run_to_rest_with_events_ms: f64,
+    run_with_samples_ms: f64,
+    run_t_end: f64,
+    run_end_reason: &'static str,
+    run_rhs_evaluations: u64,
+    run_steps: u64,
+    run_rejected_steps: u64,
+    rtol: f64,
+    atol: f64,
+    sweep_runs: Option<usize>,
+    sweep_seconds: Option<f64>,
+    sweep_threads: usize,
+    sweep_retrograde: Option<usize>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let case = args.case.case()?;
+    let model = case.model.clone();
+    let y0 = case.initial.to_state();
+
+    // Right-hand side: evaluations on slightly varied states so nothing is hoisted.
+    let n = 2_000_000;
+    let mut dy = [0.0; 8];
+    let mut y = y0;
+    let clock = Instant::now();
+    for i in 0..n {
+        y[1] = y0[1] + 1e-9 * (i & 1023) as f64;
+        model.rhs(0.0, black_box(&y), &mut dy);
+        black_box(&dy);
+    }
+    let rhs_ns = clock.elapsed().as_secs_f64() * 1e9 / n as f64;
+
+    let tol = Tolerances { rtol: 1e-10, atol: 1e-12 };
+    let bare = RunOptions { tol, sample_dt: None, track_validity: false, ..case.opts.clone() };
+    let time_runs = |opts: &RunOptions| -> Result<(f64, ringlab::physics::RunSummary)> {
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..args.repeats.max(1) {
+            let clock = Instant::now();
+            let sim = Simulation::new(model.clone(), &case.initial, opts.clone())?;
+            let summary = sim.run(&mut |s| {
+                black_box(s);
+            });
+            times.push(clock.elapsed().as_secs_f64() * 1e3);
+            last = Some(summary);
+        }
+        Ok((median(times), last.expect("at least one run")))
+    };
+    let (run_ms, summary) = time_runs(&bare)?;
+    let (events_ms, _) = time_runs(&RunOptions { track_validity: true, ..bare.clone() })?;
+    let (samples_ms, _) = time_runs(&RunOptions { track_validity: true, sample_dt: Some(case.dt), ..bare.clone() })?;
+
+    let mut report = BenchReport {
+        case: case.name.clone(),
+        rhs_ns,
+        run_to_rest_ms: run_ms,
+        run_to_rest_with_events_ms: events_ms,
+        run_with_samples_ms: samples_ms,
+        run_t_end: summary.t_end,
+        run_end_reason: summary.end_reason.as_str(),
+        run_rhs_evaluations: summary.stats.rhs_evaluations,
+        run_steps: summary.stats.steps,
+        run_rejected_steps: summary.stats.rejected,
+        rtol: tol.rtol,
+        atol: tol.atol,
+        sweep_runs: None,
+        sweep_seconds: None,
+        sweep_threads: args.threads,
+        sweep_retrograde: None,
+    };
+    if !args.skip_sweep {
+        let axis = Axis { lo: 0.005, hi: 0.5, n: args.sweep_n, log: true };
+        let opts = RunOptions { tol: Tolerances { rtol: 1e-8, atol: 1e-10 }, ..case.opts.clone() };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
+        let clock = Instant::now();
+        let rows = pool.install(|| run_sweep(&model, &case.initial, &opts, [axis; 3], &|_| {}));
+        report.sweep_seconds = Some(clock.elapsed().as_secs_f64());
+        report.sweep_runs = Some(rows.len());
+        report.sweep_retrograde = Some(rows.iter().filter(|r| r.retrograde_turn).count());
+    }
+
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!("case {}", report.case);
+        println!("right-hand side:                 {:.1} ns per evaluation", report.rhs_ns);
+        println!(
+            "run to the end (rtol {:.0e}):     {:.2} ms median of {} ({} evaluations, {} steps + {} rejected, ended {} at t = {:.4})",
+            report.rtol, report.run_to_rest_ms, args.repeats, report.run_rhs_evaluations, report.run_steps, report.run_rejected_steps,
+            report.run_end_reason, report.run_t_end
+        );
+        println!("  + turning points and validity: {:.2} ms", report.run_to_rest_with_events_ms);
+        println!("  + samples every {}:         {:.2} ms", case.dt, report.run_with_samples_ms);
+        if let (Some(n), Some(s), Some(r)) = (report.sweep_runs, report.sweep_seconds, report.sweep_retrograde) {
+            println!("drag sweep {n} runs (rtol 1e-8): {s:.2} s on {} threads; {r} make the retrograde turn", report.sweep_threads);
+        }
+    }
+    Ok(())
+}

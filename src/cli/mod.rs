@@ -1,0 +1,6 @@
+//! The command-line commands (the binary's side: anyhow errors, printing, files).
+
+pub mod bench;
+pub mod case_args;
+pub mod simulate;
+pub mod sweep;

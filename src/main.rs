@@ -1,0 +1,44 @@
+//! The `ringlab` command: with no arguments it opens the window; subcommands run headless.
+
+mod cli;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser, Debug)]
+#[command(name = "ringlab", version, about = "Rolling rings and disks: the terminal retrograde turn, simulated and explained")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the model once; write samples as CSV and a summary
+    Simulate(cli::simulate::SimulateArgs),
+    /// Run a grid of drag coefficients and classify each run
+    Sweep(cli::sweep::SweepArgs),
+    /// Measure the speed of the physics core
+    Bench(cli::bench::BenchArgs),
+    /// List the presets
+    Presets,
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Some(Command::Simulate(a)) => cli::simulate::run(&a),
+        Some(Command::Sweep(a)) => cli::sweep::run(&a),
+        Some(Command::Bench(a)) => cli::bench::run(&a),
+        Some(Command::Presets) => {
+            for name in ringlab::config::preset_names() {
+                let f = ringlab::config::load_preset(name)?;
+                println!("{name:<16} {}", f.description);
+            }
+            Ok(())
+        }
+        None => {
+            anyhow::bail!("the window is not built yet; use a subcommand (ringlab --help)")
+        }
+    }
+}
