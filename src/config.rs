@@ -138,6 +138,8 @@ pub struct EffectsSection {
     pub pivot_friction: f64,
     #[serde(default)]
     pub translational_drag: f64,
+    /// Kinetic friction coefficient of a sliding contact (absent: pure rolling).
+    pub slip_mu: Option<f64>,
 }
 
 /// A validated case, ready to run.
@@ -199,6 +201,7 @@ impl CaseFile {
             rolling_friction: e.rolling_friction,
             pivot_friction: e.pivot_friction,
             translational_drag: e.translational_drag,
+            slip_mu: e.slip_mu,
         };
         let model = model.with_effects(effects).map_err(|e| format!("[effects] {e}"))?;
         let i = &self.initial;
@@ -287,6 +290,7 @@ impl Case {
             rolling_friction: e.rolling_friction * k.length,
             pivot_friction: e.pivot_friction * k.length,
             translational_drag: e.translational_drag / k.length,
+            slip_mu: e.slip_mu,
         };
         let model = Model::new(body, to.g(), self.model.c_drag, to.nu_air())
             .and_then(|m| m.with_effects(effects))

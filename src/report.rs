@@ -115,7 +115,21 @@ impl RunReport {
     /// A few lines for a person: the outcome and every breach of the model's assumptions.
     pub fn human(&self) -> String {
         let mut s = String::new();
-        let fmt_iv = |v: &[[f64; 2]]| v.iter().map(|i| format!("[{:.3}, {:.3}]", i[0], i[1])).collect::<Vec<_>>().join(", ");
+        let fmt_iv = |v: &[[f64; 2]]| {
+            let one = |i: &[f64; 2]| format!("[{:.3}, {:.3}]", i[0], i[1]);
+            if v.len() <= 6 {
+                return v.iter().map(one).collect::<Vec<_>>().join(", ");
+            }
+            let total: f64 = v.iter().map(|i| i[1] - i[0]).sum();
+            format!(
+                "{} intervals ({:.3} in all): {}, {}, ..., {} (all of them in --json)",
+                v.len(),
+                total,
+                one(&v[0]),
+                one(&v[1]),
+                one(&v[v.len() - 1])
+            )
+        };
         s += &format!("case {} ({})\n", self.case, self.units);
         s += &format!("ended: {} at t = {:.4}\n", self.end_reason, self.t_end);
         if let Some(e) = &self.error {

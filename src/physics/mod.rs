@@ -2,6 +2,7 @@
 //! and the analysis of a run. Pure math: nalgebra and std only, no GPU, UI or threads.
 
 pub mod body;
+pub mod effects;
 pub mod frame;
 pub mod integrator;
 pub mod model;
@@ -11,6 +12,7 @@ pub mod run;
 pub mod units;
 
 pub use body::{Body, ParamError, Shape};
+pub use effects::EffectKind;
 pub use model::{Effects, Initial, Model, ReynoldsDrag, STATE_LEN, StateVec};
 pub use run::{EndReason, Interval, RunOptions, RunSummary, Sample, Simulation, TurnKind, TurningPoint, simulate};
 pub use units::{Conversion, Units};

@@ -58,9 +58,15 @@ pub struct Effects {
     pub pivot_friction: f64,
     /// Air drag on the centre of mass, `F = -k |v_C| v_C` per unit mass (`k` is 1/length).
     pub translational_drag: f64,
+    /// Sliding contact: Coulomb friction with this kinetic coefficient once rolling would need
+    /// more than it gives (None: pure rolling, the paper's model). Handled by the run, which
+    /// switches to a larger state while the contact slides.
+    pub slip_mu: Option<f64>,
 }
 
 impl Effects {
+    /// Whether the rolling right-hand side needs its slow path (the sliding contact is
+    /// handled by the run, not here).
     pub fn is_none(&self) -> bool {
         self.reynolds_drag.is_none()
             && self.rolling_friction == 0.0
@@ -77,6 +83,9 @@ impl Effects {
         check_non_negative("rolling_friction", self.rolling_friction)?;
         check_non_negative("pivot_friction", self.pivot_friction)?;
         check_non_negative("translational_drag", self.translational_drag)?;
+        if let Some(mu) = self.slip_mu {
+            check_non_negative("slip mu", mu)?;
+        }
         Ok(())
     }
 }

@@ -312,6 +312,9 @@ impl Simulation {
     pub fn from_state(model: Model, t0: f64, y0: StateVec, opts: RunOptions) -> Result<Simulation, RunError> {
         opts.validate().map_err(RunError::Param)?;
         model.effects.validate().map_err(RunError::Param)?;
+        if model.effects.slip_mu.is_some() {
+            return Err(RunError::Unsupported("the sliding contact (slip) is not available yet"));
+        }
         let rest_kinetic = REST_KINETIC_FRACTION * model.g * model.body.r;
         let stepper = Dop853::new(model, t0, y0, opts.tol, opts.h_max).map_err(RunError::Integrator)?;
         let s0 = Sample::new(&stepper.system, t0, &y0);
@@ -569,6 +572,7 @@ impl Simulation {
 pub enum RunError {
     Param(ParamError),
     Integrator(IntegratorError),
+    Unsupported(&'static str),
 }
 
 impl fmt::Display for RunError {
@@ -576,6 +580,7 @@ impl fmt::Display for RunError {
         match self {
             RunError::Param(e) => e.fmt(f),
             RunError::Integrator(e) => e.fmt(f),
+            RunError::Unsupported(what) => f.write_str(what),
         }
     }
 }
