@@ -2,13 +2,17 @@
 //! and the analysis of a run. Pure math: nalgebra and std only, no GPU, UI or threads.
 
 pub mod body;
+mod contact;
 pub mod effects;
 pub mod frame;
 pub mod integrator;
+pub mod losses;
 pub mod model;
 pub mod motion;
 pub mod paper;
 pub mod run;
+pub mod sample;
+pub mod slip;
 pub mod units;
 
 pub use body::{Body, ParamError, Shape};

@@ -25,8 +25,11 @@ pub mod ix {
     pub const Y: usize = 7;
 }
 
-/// Drag coefficients grow as the Reynolds number falls: `C_i(Re) = C_i (Re_ref / Re)^n`,
-/// with the factor capped at `max_factor` (bounded at low Re, where the law no longer holds).
+/// Drag coefficients that grow as the Reynolds number falls (the paper, section III: "as the
+/// motion of the ring slows down, Re decreases and the drag coefficients increase"):
+/// `C_i(Re) = C_i (Re_ref / Re)^n`, with the factor capped at `max_factor` because the power
+/// law (laminar skin friction gives `n` near 1/2, section IV) does not hold as `Re -> 0`.
+/// `Re = 2 |v_C| R / nu_air` is physical, the same in every unit system.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReynoldsDrag {
     pub re_ref: f64,
@@ -35,7 +38,10 @@ pub struct ReynoldsDrag {
 }
 
 impl ReynoldsDrag {
-    /// The multiplier on `C_i` at Reynolds number `re`.
+    /// The multiplier on `C_i` at Reynolds number `re`: `min((re_ref / re)^n, max_factor)`.
+    /// Continuous in `re` (the cap is reached at `re = re_ref max_factor^(-1/n)`), and
+    /// `max_factor` at `re = 0`.
+    #[inline]
     pub fn factor(&self, re: f64) -> f64 {
         if re <= 0.0 {
             return self.max_factor;
@@ -45,40 +51,53 @@ impl ReynoldsDrag {
 }
 
 /// Physics beyond the paper's model. All off by default; each is switched on by a non-zero
-/// parameter (lengths in the model's units).
+/// parameter (lengths in the model's units). See `effects.rs` for the named effects and
+/// their dimensionless strengths, `losses.rs` and `slip.rs` for the mechanics.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Effects {
     /// Reynolds-dependent drag coefficients.
     pub reynolds_drag: Option<ReynoldsDrag>,
     /// Rolling resistance: a torque `-k F_N w_h/|w_h|` against the horizontal (rolling) part
-    /// of omega; `k` is a length (the lever arm of rolling resistance).
+    /// `w_h` of omega; `k` is a length (the forward shift of the normal force in the contact).
     pub rolling_friction: f64,
     /// Pivot (drilling) friction: a torque `-k F_N sign(w . Z) Z` against spin about the
-    /// table normal; `k` is a length (an effective contact radius times a friction coefficient).
+    /// table normal; `k` is a length (contact-patch radius times a friction coefficient).
     pub pivot_friction: f64,
-    /// Air drag on the centre of mass, `F = -k |v_C| v_C` per unit mass (`k` is 1/length).
+    /// Quadratic air drag on the centre of mass, `F = -k |v_C| v_C` per unit mass (`k` is
+    /// 1/length).
     pub translational_drag: f64,
-    /// Sliding contact: Coulomb friction with this kinetic coefficient once rolling would need
-    /// more than it gives (None: pure rolling, the paper's model). Handled by the run, which
-    /// switches to a larger state while the contact slides.
+    /// Sliding contact: Coulomb friction with this coefficient (static and kinetic alike)
+    /// once rolling would need more than it gives (None: pure rolling, the paper's model).
+    /// Handled by the run, which switches to a larger state while the contact slides.
     pub slip_mu: Option<f64>,
 }
 
 impl Effects {
-    /// Whether the rolling right-hand side needs its slow path (the sliding contact is
-    /// handled by the run, not here).
+    /// No effect at all in the rolling right-hand side (the sliding contact is handled by the
+    /// run, not here).
     pub fn is_none(&self) -> bool {
-        self.reynolds_drag.is_none()
-            && self.rolling_friction == 0.0
-            && self.pivot_friction == 0.0
-            && self.translational_drag == 0.0
+        self.reynolds_drag.is_none() && !self.has_contact_terms()
+    }
+
+    /// Whether the right-hand side needs its cold path: forces and torques that change the
+    /// contact force (all but the Reynolds scaling, which only rescales eq. 5).
+    #[inline]
+    pub fn has_contact_terms(&self) -> bool {
+        self.rolling_friction != 0.0 || self.pivot_friction != 0.0 || self.translational_drag != 0.0
     }
 
     pub fn validate(&self) -> Result<(), ParamError> {
         if let Some(r) = &self.reynolds_drag {
             check_positive("reynolds_drag re_ref", r.re_ref)?;
             check_non_negative("reynolds_drag exponent", r.exponent)?;
-            check_positive("reynolds_drag max_factor", r.max_factor)?;
+            check_finite("reynolds_drag max_factor", r.max_factor)?;
+            if r.max_factor < 1.0 {
+                return Err(ParamError {
+                    name: "reynolds_drag max_factor",
+                    value: r.max_factor,
+                    reason: "must be at least 1 (the cap bounds the growth of C_i at low Re)",
+                });
+            }
         }
         check_non_negative("rolling_friction", self.rolling_friction)?;
         check_non_negative("pivot_friction", self.pivot_friction)?;
@@ -89,10 +108,6 @@ impl Effects {
         Ok(())
     }
 }
-
-/// Speed scale below which the friction torques' directions are smoothed (a regularised sign),
-/// relative to `sqrt(g R)`; keeps the right-hand side smooth for the integrator.
-const FRICTION_SMOOTHING: f64 = 1e-6;
 
 /// The complete force model of one body on the table.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,6 +133,10 @@ pub struct Dynamics {
     pub f_1: f64,
     /// Velocity of the centre of mass, frame components.
     pub v_c: Vector3<f64>,
+    /// Torque of rolling and pivot friction on the body (frame components; zero without them).
+    pub contact_torque: Vector3<f64>,
+    /// Translational air drag on the centre of mass (frame components; zero without it).
+    pub drag_force: Vector3<f64>,
 }
 
 impl Model {
@@ -130,15 +149,56 @@ impl Model {
         Ok(Model { body, g, c_drag, nu_air, effects: Effects::default() })
     }
 
+    /// Sets the effects after checking them against this body (see [`Model::check_effects`]).
     pub fn with_effects(mut self, effects: Effects) -> Result<Model, ParamError> {
-        effects.validate()?;
         self.effects = effects;
+        self.check_effects()?;
         Ok(self)
+    }
+
+    /// Checks the effects, including the limits that depend on the body: the closed-form
+    /// solve for `F_N` (`losses.rs`) needs the rolling-resistance arm below half of `|r_G|`,
+    /// and the sliding contact needs `mu` below the Painleve limit of the body (`slip.rs`).
+    pub fn check_effects(&self) -> Result<(), ParamError> {
+        self.effects.validate()?;
+        let r_g = self.body.r_g().norm();
+        if self.effects.rolling_friction > 0.5 * r_g {
+            return Err(ParamError {
+                name: "rolling_friction",
+                value: self.effects.rolling_friction,
+                reason: "must be below half the distance from contact to centre of mass (|r_G| / 2)",
+            });
+        }
+        if let Some(mu) = self.effects.slip_mu {
+            let limit = super::slip::painleve_mu_limit(self);
+            if mu >= limit {
+                return Err(ParamError {
+                    name: "slip mu",
+                    value: mu,
+                    reason: super::slip::PAINLEVE_REASON,
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Reynolds number `2 |v_C| R / nu_air` for a centre-of-mass speed.
     pub fn reynolds(&self, speed_c: f64) -> f64 {
         2.0 * speed_c * self.body.r / self.nu_air
+    }
+
+    /// The drag coefficients `C_i` at centre-of-mass speed `speed_c` (eq. 5, scaled with the
+    /// Reynolds number when that effect is on).
+    #[inline]
+    pub fn drag_coefficients(&self, speed_c: f64) -> [f64; 3] {
+        let c = self.c_drag;
+        match &self.effects.reynolds_drag {
+            None => c,
+            Some(re) => {
+                let k = re.factor(self.reynolds(speed_c));
+                [c[0] * k, c[1] * k, c[2] * k]
+            }
+        }
     }
 
     /// Angular acceleration and contact force at `(theta, w)`.
@@ -173,60 +233,12 @@ impl Model {
         let tau = Vector3::new(-c[0] * w1.abs() * w1, -c[1] * w2.abs() * w2, -c[2] * w3.abs() * w3);
         let z = Vector3::new(0.0, st, ct);
         let gz = self.g * z;
-        if self.effects.is_none() {
+        if !self.effects.has_contact_terms() {
             let omega_dot = b.j_inv * f + tau;
             let force = omega_dot.cross(&r_g) + om_x_vc + gz;
             return Dynamics::from_force(omega_dot, force, st, ct, v_c);
         }
-        self.dynamics_with_effects(f, tau, w, &om_x_vc, &v_c, &z, st, ct)
-    }
-
-    /// The cold path: translational drag and the torques proportional to `F_N`.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(never)]
-    fn dynamics_with_effects(
-        &self,
-        mut f: Vector3<f64>,
-        tau: Vector3<f64>,
-        w: &Vector3<f64>,
-        om_x_vc: &Vector3<f64>,
-        v_c: &Vector3<f64>,
-        z: &Vector3<f64>,
-        st: f64,
-        ct: f64,
-    ) -> Dynamics {
-        let b = &self.body;
-        let e = &self.effects;
-        let r_g = b.r_g();
-        // Air drag on C: it adds r_G x F_d to f and takes F_d off the contact force.
-        let f_d = -e.translational_drag * v_c.norm() * v_c;
-        f += r_g.cross(&f_d);
-        // Torques proportional to F_N: T = F_N u. F_N itself depends on omega', linearly:
-        // F_N = F_N0 + F_N ((J^-1 u) x r_G) . Z, solved in closed form.
-        let eps = FRICTION_SMOOTHING * (self.g * b.r).sqrt() / b.r;
-        let mut u = Vector3::zeros();
-        if e.rolling_friction > 0.0 {
-            let w_h = w - z * w.dot(z);
-            u -= e.rolling_friction * w_h / (w_h.norm_squared() + eps * eps).sqrt();
-        }
-        if e.pivot_friction > 0.0 {
-            let s = w.dot(z);
-            u -= e.pivot_friction * (s / (s * s + eps * eps).sqrt()) * z;
-        }
-        let wd0 = b.j_inv * f + tau;
-        let g_z = self.g * z;
-        let force0 = wd0.cross(&r_g) + om_x_vc + g_z - f_d;
-        let f_n0 = force0.dot(z);
-        let ju = b.j_inv * u;
-        let gain = ju.cross(&r_g).dot(z);
-        // Friction torques act only while the contact presses (F_N > 0).
-        let mut f_n_contact = f_n0 / (1.0 - gain).max(0.1);
-        if f_n_contact < 0.0 {
-            f_n_contact = 0.0;
-        }
-        let omega_dot = wd0 + f_n_contact * ju;
-        let force = omega_dot.cross(&r_g) + om_x_vc + g_z - f_d;
-        Dynamics::from_force(omega_dot, force, st, ct, *v_c)
+        self.dynamics_with_losses(f, tau, w, &om_x_vc, &v_c, st, ct)
     }
 
     /// Total energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` (m = 1).
@@ -249,7 +261,7 @@ impl Model {
 
 impl Dynamics {
     #[inline]
-    fn from_force(omega_dot: Vector3<f64>, force: Vector3<f64>, st: f64, ct: f64, v_c: Vector3<f64>) -> Dynamics {
+    pub(crate) fn from_force(omega_dot: Vector3<f64>, force: Vector3<f64>, st: f64, ct: f64, v_c: Vector3<f64>) -> Dynamics {
         Dynamics {
             omega_dot,
             force,
@@ -257,6 +269,8 @@ impl Dynamics {
             f_f: force.y * ct - force.z * st,
             f_1: force.x,
             v_c,
+            contact_torque: Vector3::zeros(),
+            drag_force: Vector3::zeros(),
         }
     }
 

@@ -2,11 +2,17 @@
 //! and samples on a fixed time grid from the dense output.
 
 use super::body::{ParamError, check_finite, check_positive};
-use super::integrator::{Dop853, IntegratorError, Stats, Tolerances, find_root};
-use super::model::{Dynamics, Initial, Model, STATE_LEN, StateVec, ix};
+use super::contact::Contact;
+use super::integrator::{IntegratorError, Stats, Tolerances, find_root};
+use super::model::{Initial, Model, StateVec, ix};
+use super::slip::{
+    SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick, stick_margin,
+};
 use nalgebra::Vector3;
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
+
+pub use super::sample::Sample;
 
 /// Default end tilt: the run stops when `theta` reaches `pi/2 - 0.02`. The frame is singular
 /// at `pi/2` (`phi' = w3 / cos(theta)` diverges); by `0.02` rad the ring is flat for any camera
@@ -91,6 +97,9 @@ pub enum EndReason {
     NonFinite,
     /// The integrator could not take a step of resolvable size (a singularity).
     StepSizeTooSmall,
+    /// The contact kept switching between rolling and sliding without time moving on
+    /// (the sliding contact found no consistent state).
+    ContactChatter,
 }
 
 impl EndReason {
@@ -102,6 +111,7 @@ impl EndReason {
             EndReason::OtherRim => "other_rim",
             EndReason::NonFinite => "non_finite",
             EndReason::StepSizeTooSmall => "step_size_too_small",
+            EndReason::ContactChatter => "contact_chatter",
         }
     }
 
@@ -114,104 +124,6 @@ impl EndReason {
 impl fmt::Display for EndReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.as_str())
-    }
-}
-
-/// The state and everything derived from it at one time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sample {
-    pub t: f64,
-    pub y: StateVec,
-    pub z_c: f64,
-    /// Point A, the centre of the top edge: `r_A = r_C + (h/2) e2`.
-    pub x_a: f64,
-    pub y_a: f64,
-    /// Contact point P = C - r_G.
-    pub x_p: f64,
-    pub y_p: f64,
-    /// Velocity of A parallel to the table (the paper's `v_p`), table components.
-    pub vx_a: f64,
-    pub vy_a: f64,
-    /// `|v_p|`.
-    pub v_p: f64,
-    pub f_1: f64,
-    pub f_f: f64,
-    pub f_n: f64,
-    pub energy: f64,
-    /// `|v_C|`.
-    pub speed_c: f64,
-    /// Reynolds number `2 |v_C| R / nu_air`.
-    pub reynolds: f64,
-}
-
-impl Sample {
-    pub fn new(model: &Model, t: f64, y: &StateVec) -> Sample {
-        let d = model.dynamics(y[ix::THETA], &Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]));
-        Sample::with_dynamics(model, t, y, &d)
-    }
-
-    fn with_dynamics(model: &Model, t: f64, y: &StateVec, d: &Dynamics) -> Sample {
-        let b = &model.body;
-        let (st, ct) = y[ix::THETA].sin_cos();
-        let (sp, cp) = y[ix::PHI].sin_cos();
-        let a = 0.5 * b.h;
-        // Horizontal part of e2 is cos(theta) E2', E2' = (-sin phi, cos phi).
-        let (x_a, y_a) = (y[ix::X] - a * ct * sp, y[ix::Y] + a * ct * cp);
-        // P = C - (h/2) e2 - R e3; its horizontal offset is (R sin - (h/2) cos) E2'.
-        let lever = b.r * st - a * ct;
-        let (x_p, y_p) = (y[ix::X] + lever * sp, y[ix::Y] - lever * cp);
-        // v_A = v_C + Omega x (h/2) e2, Omega = (w1, w3 tan, w3).
-        let om = Vector3::new(y[ix::W1], y[ix::W3] * st / ct, y[ix::W3]);
-        let v_a = d.v_c + om.cross(&Vector3::new(0.0, a, 0.0));
-        // Horizontal part: e1 = (cos phi, sin phi), e2 and e3 contribute along E2'.
-        let along_e2h = v_a.y * ct - v_a.z * st;
-        let (vx_a, vy_a) = (v_a.x * cp - along_e2h * sp, v_a.x * sp + along_e2h * cp);
-        let speed_c = d.v_c.norm();
-        Sample {
-            t,
-            y: *y,
-            z_c: a * st + b.r * ct,
-            x_a,
-            y_a,
-            x_p,
-            y_p,
-            vx_a,
-            vy_a,
-            v_p: vx_a.hypot(vy_a),
-            f_1: d.f_1,
-            f_f: d.f_f,
-            f_n: d.f_n,
-            energy: model.energy(y),
-            speed_c,
-            reynolds: model.reynolds(speed_c),
-        }
-    }
-
-    pub fn theta(&self) -> f64 {
-        self.y[ix::THETA]
-    }
-    pub fn phi(&self) -> f64 {
-        self.y[ix::PHI]
-    }
-    pub fn psi(&self) -> f64 {
-        self.y[ix::PSI]
-    }
-    pub fn omega(&self) -> Vector3<f64> {
-        Vector3::new(self.y[ix::W1], self.y[ix::W2], self.y[ix::W3])
-    }
-    pub fn x_c(&self) -> f64 {
-        self.y[ix::X]
-    }
-    pub fn y_c(&self) -> f64 {
-        self.y[ix::Y]
-    }
-    /// `sqrt(F_1^2 + F_f^2) / F_N`.
-    pub fn friction_ratio(&self) -> f64 {
-        self.f_1.hypot(self.f_f) / self.f_n
-    }
-    /// `phi'`, the precession rate of the line of nodes.
-    pub fn phi_dot(&self) -> f64 {
-        self.y[ix::W3] / self.theta().cos()
     }
 }
 
@@ -247,8 +159,14 @@ pub struct RunSummary {
     /// Where `F_N <= 0`: the body would leave the table.
     pub lift_off: Vec<Interval>,
     /// Where `sqrt(F_1^2 + F_f^2) > mu F_N`: rolling needs more friction than the table gives
-    /// (this includes the lift-off intervals, where `mu F_N <= 0`).
+    /// (this includes the lift-off intervals, where `mu F_N <= 0`). Pure rolling only: with
+    /// the slip effect the contact slides there instead (see `sliding`).
     pub slip: Vec<Interval>,
+    /// Where the contact slides (slip effect on; empty otherwise).
+    pub sliding: Vec<Interval>,
+    /// Largest slip speed left when the contact stuck, removed by the sticking impulse
+    /// (rounding level: the stick event is located on the dense output).
+    pub stick_residual: f64,
     pub stats: Stats,
     /// The integrator's error, when the run ended on one.
     pub error: Option<IntegratorError>,
@@ -280,10 +198,22 @@ impl IntervalTracker {
     }
 }
 
+fn add_stats(a: Stats, b: Stats) -> Stats {
+    Stats {
+        rhs_evaluations: a.rhs_evaluations + b.rhs_evaluations,
+        steps: a.steps + b.steps,
+        rejected: a.rejected + b.rejected,
+    }
+}
+
 /// A run in progress. [`Simulation::advance`] integrates up to a time and hands samples to a
 /// sink; the live view drives it in small slices, the CLI in one go.
+///
+/// With the slip effect the contact alternates between rolling (the paper's state, on the
+/// fast path) and sliding (`slip.rs`); the switches are events located on the dense output
+/// like the turning points, and each phase gets its own stepper.
 pub struct Simulation {
-    stepper: Dop853<Model, STATE_LEN>,
+    contact: Contact,
     opts: RunOptions,
     t0: f64,
     sample_index: u64,
@@ -294,12 +224,25 @@ pub struct Simulation {
     turning_points: Vec<TurningPoint>,
     lift_off: IntervalTracker,
     slip: IntervalTracker,
+    sliding: IntervalTracker,
     /// Validity margins `(F_N, mu F_N - |F_t|)` at the start of the current step.
     margins: (f64, f64),
+    /// The sliding contact's friction coefficient (static and kinetic), when on.
+    slip_mu: Option<f64>,
+    /// At the start of the current step: while rolling with slip on, `mu F_N - |F_t|`; while
+    /// sliding, the slip velocity along its reference direction.
+    switch_margin: f64,
+    /// Work of the steppers of earlier phases.
+    stats_done: Stats,
+    /// Time of the last contact switch and how many happened there in a row.
+    switches_here: (f64, u32),
+    stick_residual: f64,
 }
 
 /// Time tolerance of event location, relative to `max(1, |t|)`.
 const EVENT_T_TOL: f64 = 1e-13;
+/// Contact switches at one instant after which the run gives up (`ContactChatter`).
+const MAX_SWITCHES_AT_ONCE: u32 = 16;
 
 impl Simulation {
     /// Starts a run at `t = 0`.
@@ -308,18 +251,61 @@ impl Simulation {
         Simulation::from_state(model, 0.0, initial.to_state(), opts)
     }
 
-    /// Starts a run from any state (used to continue with changed parameters).
+    /// Starts a run from any rolling state (used to continue with changed parameters). With
+    /// the slip effect on, a state where rolling needs more friction than `mu F_N` starts
+    /// sliding.
     pub fn from_state(model: Model, t0: f64, y0: StateVec, opts: RunOptions) -> Result<Simulation, RunError> {
         opts.validate().map_err(RunError::Param)?;
-        model.effects.validate().map_err(RunError::Param)?;
-        if model.effects.slip_mu.is_some() {
-            return Err(RunError::Unsupported("the sliding contact (slip) is not available yet"));
+        model.check_effects().map_err(RunError::Param)?;
+        let slip_mu = model.effects.slip_mu;
+        let onset = slip_mu.is_some_and(|mu| !(stick_margin(&model, mu, &y0) >= 0.0));
+        let contact = if let (true, Some(mu)) = (onset, slip_mu) {
+            let s_ref = onset_direction(&model, &y0);
+            let ys = sliding_state(&model, &y0);
+            Contact::sliding(SlidingModel::new(model, mu, s_ref), t0, ys, opts.tol, opts.h_max)
+        } else {
+            Contact::rolling(model, t0, y0, opts.tol, opts.h_max)
         }
+        .map_err(RunError::Integrator)?;
+        let mut sim = Simulation::start(contact, t0, opts);
+        // A start with theta' = 0 is itself a turning point (the paper starts at one).
+        if y0[ix::W1] == 0.0 {
+            let d = sim.model().dynamics(y0[ix::THETA], &Vector3::new(0.0, y0[ix::W2], y0[ix::W3]));
+            let kind = if d.omega_dot.x >= 0.0 { TurnKind::ThetaMin } else { TurnKind::ThetaMax };
+            sim.turning_points.push(TurningPoint { kind, sample: sim.final_sample });
+        }
+        Ok(sim)
+    }
+
+    /// Starts a run from a sliding state `[phi, theta, psi, w1, w2, w3, x_C, y_C, vx_C, vy_C]`
+    /// (`slip.rs`); needs the slip effect. Without slip it is the rolling start.
+    pub fn from_sliding_state(model: Model, t0: f64, y0: SlideVec, opts: RunOptions) -> Result<Simulation, RunError> {
+        let Some(mu) = model.effects.slip_mu else {
+            return Err(RunError::Unsupported("a sliding start needs the slip effect (slip_mu)"));
+        };
+        if y0.iter().any(|v| !v.is_finite()) {
+            return Err(RunError::Integrator(IntegratorError::BadInitialState));
+        }
+        let v_s = slip_velocity(&model, &y0);
+        if v_s == [0.0, 0.0] {
+            let mut y8 = [0.0; super::model::STATE_LEN];
+            y8.copy_from_slice(&y0[..super::model::STATE_LEN]);
+            return Simulation::from_state(model, t0, y8, opts);
+        }
+        opts.validate().map_err(RunError::Param)?;
+        model.check_effects().map_err(RunError::Param)?;
+        let contact = Contact::sliding(SlidingModel::new(model, mu, v_s), t0, y0, opts.tol, opts.h_max)
+            .map_err(RunError::Integrator)?;
+        Ok(Simulation::start(contact, t0, opts))
+    }
+
+    fn start(contact: Contact, t0: f64, opts: RunOptions) -> Simulation {
+        let model = contact.model();
         let rest_kinetic = REST_KINETIC_FRACTION * model.g * model.body.r;
-        let stepper = Dop853::new(model, t0, y0, opts.tol, opts.h_max).map_err(RunError::Integrator)?;
-        let s0 = Sample::new(&stepper.system, t0, &y0);
+        let slip_mu = model.effects.slip_mu;
+        let s0 = contact.sample_now();
         let mut sim = Simulation {
-            stepper,
+            contact,
             t0,
             sample_index: 0,
             rest_kinetic,
@@ -329,34 +315,47 @@ impl Simulation {
             turning_points: Vec::new(),
             lift_off: IntervalTracker::default(),
             slip: IntervalTracker::default(),
+            sliding: IntervalTracker::default(),
             margins: (0.0, 0.0),
+            slip_mu,
+            switch_margin: 0.0,
+            stats_done: Stats::default(),
+            switches_here: (t0, 0),
+            stick_residual: 0.0,
             opts,
         };
         sim.margins = sim.validity_margins(&s0);
         if sim.opts.track_validity {
             sim.lift_off.update(t0, sim.margins.0 <= 0.0);
-            sim.slip.update(t0, sim.margins.1 < 0.0);
+            if sim.slip_mu.is_none() {
+                sim.slip.update(t0, sim.margins.1 < 0.0);
+            }
         }
-        // A start with theta' = 0 is itself a turning point (the paper starts at one).
-        if y0[ix::W1] == 0.0 {
-            let d = sim.model().dynamics(y0[ix::THETA], &Vector3::new(0.0, y0[ix::W2], y0[ix::W3]));
-            let kind = if d.omega_dot.x >= 0.0 { TurnKind::ThetaMin } else { TurnKind::ThetaMax };
-            sim.turning_points.push(TurningPoint { kind, sample: s0 });
-        }
-        Ok(sim)
+        sim.sliding.update(t0, sim.contact.is_sliding());
+        sim.switch_margin = sim.current_switch_margin();
+        sim
     }
 
     pub fn model(&self) -> &Model {
-        &self.stepper.system
+        self.contact.model()
     }
     pub fn options(&self) -> &RunOptions {
         &self.opts
     }
     pub fn t(&self) -> f64 {
-        self.end.map(|e| e.1).unwrap_or(self.stepper.t())
+        self.end.map(|e| e.1).unwrap_or(self.contact.t())
     }
+    /// The current state (while sliding: its first eight numbers, as while rolling).
     pub fn state(&self) -> &StateVec {
-        self.stepper.y()
+        self.contact.state()
+    }
+    /// Whether the contact slides now.
+    pub fn is_sliding(&self) -> bool {
+        self.contact.is_sliding()
+    }
+    /// The whole sliding state, while sliding.
+    pub fn sliding_state(&self) -> Option<&SlideVec> {
+        self.contact.sliding_state()
     }
     pub fn end_reason(&self) -> Option<EndReason> {
         self.end.map(|e| e.0)
@@ -365,7 +364,7 @@ impl Simulation {
         &self.turning_points
     }
     pub fn stats(&self) -> Stats {
-        self.stepper.stats()
+        add_stats(self.stats_done, self.contact.stats())
     }
     /// The last sample of a finished run (or the start, before).
     pub fn final_sample(&self) -> &Sample {
@@ -376,11 +375,29 @@ impl Simulation {
         (s.f_n, self.opts.mu * s.f_n - s.f_1.hypot(s.f_f))
     }
 
+    /// The switch event's function at the current point (see `switch_margin`).
+    fn current_switch_margin(&self) -> f64 {
+        match (self.slip_mu, self.contact.sliding_state()) {
+            (None, _) => 0.0,
+            (Some(mu), None) => stick_margin(self.model(), mu, self.contact.state()),
+            (Some(_), Some(y)) => {
+                let v = slip_velocity(self.model(), y);
+                match &self.contact {
+                    Contact::Sliding(s) => {
+                        let r = s.system.reference();
+                        v[0] * r[0] + v[1] * r[1]
+                    }
+                    Contact::Rolling(_) => 0.0,
+                }
+            }
+        }
+    }
+
     /// Integrates until `t >= t_stop` or the run ends; every sample on the grid
     /// `t0 + k dt` up to the last step goes to `sink`, and the end point too.
     /// Returns the end reason once the run has ended.
     pub fn advance(&mut self, t_stop: f64, sink: &mut impl FnMut(&Sample)) -> Option<EndReason> {
-        while self.end.is_none() && self.stepper.t() < t_stop {
+        while self.end.is_none() && self.contact.t() < t_stop {
             self.one_step(sink);
         }
         self.end_reason()
@@ -398,8 +415,8 @@ impl Simulation {
         let (reason, t) = match self.end {
             Some(e) => e,
             None => {
-                let t = self.stepper.t();
-                self.final_sample = Sample::new(self.model(), t, self.stepper.y());
+                let t = self.contact.t();
+                self.final_sample = self.contact.sample_now();
                 (EndReason::TEnd, t)
             }
         };
@@ -410,48 +427,35 @@ impl Simulation {
             turning_points: self.turning_points,
             lift_off: self.lift_off.finish(t),
             slip: self.slip.finish(t),
-            stats: self.stepper.stats(),
+            sliding: self.sliding.finish(t),
+            stick_residual: self.stick_residual,
+            stats: add_stats(self.stats_done, self.contact.stats()),
             error: self.error,
         }
     }
 
-    /// Locates a sign change of `g` over the last step, or over `[t_prev, b]` when `b` is given.
-    fn locate(&mut self, g: impl Fn(&Model, f64, &StateVec) -> f64, g_old: f64, g_new: f64) -> f64 {
-        let b = self.stepper.t();
-        self.locate_in(b, g, g_old, g_new)
-    }
-
-    fn locate_in(&mut self, b: f64, g: impl Fn(&Model, f64, &StateVec) -> f64, g_old: f64, g_b: f64) -> f64 {
-        let a = self.stepper.t_prev();
+    /// Locates a sign change of `g` over `[t_prev, b]` of the last step.
+    fn locate_in(&mut self, b: f64, mut g: impl FnMut(&mut Contact, f64) -> f64, g_old: f64, g_b: f64) -> f64 {
+        let a = self.contact.t_prev();
         let tol = EVENT_T_TOL * b.abs().max(1.0);
-        let stepper = &mut self.stepper;
-        find_root(
-            |t| {
-                let y = stepper.dense(t);
-                g(&stepper.system, t, &y)
-            },
-            a,
-            b,
-            g_old,
-            g_b,
-            tol,
-        )
+        let contact = &mut self.contact;
+        find_root(|t| g(contact, t), a, b, g_old, g_b, tol)
     }
 
     fn one_step(&mut self, sink: &mut impl FnMut(&Sample)) {
-        let (t_old, y_old) = (self.stepper.t(), *self.stepper.y());
-        if let Err(e) = self.stepper.step() {
+        let (t_old, y_old) = (self.contact.t(), *self.contact.state());
+        if let Err(e) = self.contact.step() {
             let reason = match e {
                 IntegratorError::NonFinite { .. } => EndReason::NonFinite,
                 _ => EndReason::StepSizeTooSmall,
             };
             self.error = Some(e);
-            self.final_sample = Sample::new(self.model(), t_old, &y_old);
+            self.final_sample = self.contact.sample_now();
             self.end = Some((reason, t_old));
             sink(&self.final_sample);
             return;
         }
-        let (t_new, y_new) = (self.stepper.t(), *self.stepper.y());
+        let (t_new, y_new) = (self.contact.t(), *self.contact.state());
 
         // Turning point: theta' = w1 changes sign (at most one per step at these tolerances).
         let (w_old, w_new) = (y_old[ix::W1], y_new[ix::W1]);
@@ -463,8 +467,8 @@ impl Simulation {
             None
         };
         let turn = kind.map(|kind| {
-            let t = self.locate(|_, _, y| y[ix::W1], w_old, w_new);
-            let y = self.stepper.dense(t);
+            let t = self.locate_in(t_new, |c, t| c.dense(t)[ix::W1], w_old, w_new);
+            let y = self.contact.dense(t);
             (kind, t, y)
         });
 
@@ -483,7 +487,7 @@ impl Simulation {
             _ => None,
         };
         if let Some((b, th_b)) = peak.or((y_new[ix::THETA] >= flat).then_some((t_new, y_new[ix::THETA]))) {
-            let t = self.locate_in(b, |_, _, y| y[ix::THETA] - flat, th_old - flat, th_b - flat);
+            let t = self.locate_in(b, |c, t| c.dense(t)[ix::THETA] - flat, th_old - flat, th_b - flat);
             earliest(&mut cut, EndReason::Flat, t);
         }
         let trough = match turn {
@@ -491,44 +495,55 @@ impl Simulation {
             _ => None,
         };
         if let Some((b, th_b)) = trough.or((y_new[ix::THETA] < 0.0).then_some((t_new, y_new[ix::THETA]))) {
-            let t = self.locate_in(b, |_, _, y| y[ix::THETA], th_old, th_b);
+            let t = self.locate_in(b, |c, t| c.dense(t)[ix::THETA], th_old, th_b);
             earliest(&mut cut, EndReason::OtherRim, t);
         }
         if t_new >= self.opts.t_end {
             earliest(&mut cut, EndReason::TEnd, self.opts.t_end);
         }
-        if self.model().kinetic_energy(&y_new) < self.rest_kinetic {
+        if self.contact.kinetic_energy() < self.rest_kinetic {
             earliest(&mut cut, EndReason::Rest, t_new);
         }
         let t_cut = cut.map(|c| c.1).unwrap_or(t_new);
 
+        // A switch between rolling and sliding before the end: the step counts only up to it.
+        let switch = match self.slip_mu {
+            Some(mu) => self.find_switch(mu, t_new).filter(|&t| t < t_cut),
+            None => None,
+        };
+        let t_limit = switch.unwrap_or(t_cut);
+
         if let Some((kind, t, y)) = turn {
-            if t <= t_cut {
-                let sample = Sample::new(self.model(), t, &y);
+            if t <= t_limit {
+                let sample = self.contact.sample_at(t);
+                debug_assert_eq!(sample.y, y);
                 self.turning_points.push(TurningPoint { kind, sample });
             }
         }
 
         if self.opts.track_validity {
-            self.track_validity(t_new, &y_new, t_cut);
+            self.track_validity(switch.unwrap_or(t_new), t_limit);
         }
 
         // Samples on the grid up to the cut.
         if let Some(dt) = self.opts.sample_dt {
             loop {
                 let ts = self.t0 + self.sample_index as f64 * dt;
-                if ts > t_cut {
+                if ts > t_limit {
                     break;
                 }
-                let y = self.stepper.dense(ts);
-                sink(&Sample::new(self.model(), ts, &y));
+                sink(&self.contact.sample_at(ts));
                 self.sample_index += 1;
             }
         }
 
+        if let Some(t) = switch {
+            self.switch_contact(t, sink);
+            return;
+        }
+
         if let Some((reason, t)) = cut {
-            let y = if t == t_new { y_new } else { self.stepper.dense(t) };
-            self.final_sample = Sample::new(self.model(), t, &y);
+            self.final_sample = if t == t_new { self.contact.sample_now() } else { self.contact.sample_at(t) };
             let on_grid = self.opts.sample_dt.is_some_and(|dt| {
                 let k = ((t - self.t0) / dt).round();
                 (self.t0 + k * dt - t).abs() <= 1e-12 * t.abs().max(1.0)
@@ -537,33 +552,144 @@ impl Simulation {
                 sink(&self.final_sample);
             }
             self.end = Some((reason, t));
+            return;
+        }
+
+        // The sliding contact's reference direction follows the slip, step by step.
+        if let Some(y) = self.contact.sliding_state() {
+            let v = slip_velocity(self.model(), y);
+            if let Contact::Sliding(s) = &mut self.contact {
+                if v[0].hypot(v[1]) > 0.0 {
+                    s.update_system(|m| m.set_reference(v));
+                }
+            }
+        }
+        self.switch_margin = self.current_switch_margin();
+    }
+
+    /// With the slip effect: the time within the last step at which the contact switches,
+    /// if it does. Rolling turns to sliding where `mu F_N - |F_t|` falls below zero (checked
+    /// at the step's middle and end, so a short excursion inside a step is not missed);
+    /// sliding sticks where the slip velocity's component along its reference direction
+    /// reaches zero (only once it has been positive: at the onset it starts at zero).
+    fn find_switch(&mut self, mu: f64, t_new: f64) -> Option<f64> {
+        let t_old = self.contact.t_prev();
+        let m_old = self.switch_margin;
+        if !self.contact.is_sliding() {
+            let margin = move |c: &mut Contact, t: f64| {
+                let y = c.dense(t);
+                stick_margin(c.model(), mu, &y)
+            };
+            if !(m_old >= 0.0) {
+                // Rolling although the margin is negative can only be the instant of a stick
+                // with no friction to spare: slide at once.
+                return Some(t_old);
+            }
+            let t_mid = 0.5 * (t_old + t_new);
+            for b in [t_mid, t_new] {
+                let m_b = margin(&mut self.contact, b);
+                if m_b < 0.0 {
+                    return Some(self.locate_in(b, margin, m_old, m_b));
+                }
+            }
+            None
+        } else {
+            if !(m_old > 0.0) {
+                return None;
+            }
+            let m_new = self.contact.slip_along_reference(t_new);
+            if m_new > 0.0 {
+                return None;
+            }
+            Some(self.locate_in(t_new, |c, t| c.slip_along_reference(t), m_old, m_new))
         }
     }
 
-    fn track_validity(&mut self, t_new: f64, y_new: &StateVec, t_cut: f64) {
-        let s_new = Sample::new(self.model(), t_new, y_new);
-        let (n_new, m_new) = self.validity_margins(&s_new);
+    /// Switches the contact at `t` within the last step (rolling to sliding, or a stick).
+    fn switch_contact(&mut self, t: f64, sink: &mut impl FnMut(&Sample)) {
+        let Some(mu) = self.slip_mu else { return };
+        let model = self.contact.model().clone();
+        let (tol, h_max) = (self.opts.tol, self.opts.h_max);
+        let next = match self.contact.dense_sliding(t) {
+            None => {
+                // Onset of sliding.
+                let y = self.contact.dense(t);
+                let s_ref = onset_direction(&model, &y);
+                let ys = sliding_state(&model, &y);
+                Contact::sliding(SlidingModel::new(model, mu, s_ref), t, ys, tol, h_max)
+            }
+            Some(ys) => {
+                // The slip has come to rest: stick if rolling needs no more than mu F_N,
+                // otherwise the slip turns round and the contact slides on from zero slip.
+                let v = slip_velocity(&model, &ys);
+                self.stick_residual = self.stick_residual.max(v[0].hypot(v[1]));
+                let (y, _) = stick(&model, &ys);
+                if stick_margin(&model, mu, &y) >= 0.0 {
+                    Contact::rolling(model, t, y, tol, h_max)
+                } else {
+                    let s_ref = onset_direction(&model, &y);
+                    let ys = sliding_state(&model, &y);
+                    Contact::sliding(SlidingModel::new(model, mu, s_ref), t, ys, tol, h_max)
+                }
+            }
+        };
+        let done = self.contact.stats();
+        match next {
+            Ok(c) => {
+                self.stats_done = add_stats(self.stats_done, done);
+                self.contact = c;
+            }
+            Err(e) => {
+                self.final_sample = self.contact.sample_at(t);
+                self.error = Some(e);
+                self.end = Some((EndReason::NonFinite, t));
+                sink(&self.final_sample);
+                return;
+            }
+        }
+        let s = self.contact.sample_now();
+        self.sliding.update(t, s.sliding);
+        self.margins = self.validity_margins(&s);
+        if self.opts.track_validity {
+            self.lift_off.update(t, self.margins.0 <= 0.0);
+        }
+        self.switch_margin = self.current_switch_margin();
+        // Zeno guard: switches that do not let time move on.
+        let (t_last, n) = self.switches_here;
+        let n = if t - t_last <= EVENT_T_TOL * t.abs().max(1.0) { n + 1 } else { 1 };
+        self.switches_here = (t, n);
+        if n > MAX_SWITCHES_AT_ONCE {
+            self.final_sample = s;
+            self.end = Some((EndReason::ContactChatter, t));
+            sink(&self.final_sample);
+        }
+    }
+
+    /// Lift-off (`F_N <= 0`) and, in pure rolling, would-slip (`|F_t| > mu F_N`) intervals
+    /// over the last step up to `b`, keeping those that start before `t_cut`.
+    fn track_validity(&mut self, b: f64, t_cut: f64) {
+        let s_b = self.contact.sample_at(b);
+        let (n_b, m_b) = self.validity_margins(&s_b);
         let (n_old, m_old) = self.margins;
         let mu = self.opts.mu;
-        let f_n = |m: &Model, t: f64, y: &StateVec| Sample::new(m, t, y).f_n;
-        let margin = move |m: &Model, t: f64, y: &StateVec| {
-            let s = Sample::new(m, t, y);
-            mu * s.f_n - s.f_1.hypot(s.f_f)
-        };
         // Both conditions can change in one step; apply them in time order per tracker.
-        if (n_old <= 0.0) != (n_new <= 0.0) {
-            let t = self.locate(f_n, n_old, n_new);
+        if (n_old <= 0.0) != (n_b <= 0.0) {
+            let t = self.locate_in(b, |c, t| c.sample_at(t).f_n, n_old, n_b);
             if t <= t_cut {
-                self.lift_off.update(t, n_new <= 0.0);
+                self.lift_off.update(t, n_b <= 0.0);
             }
         }
-        if (m_old < 0.0) != (m_new < 0.0) {
-            let t = self.locate(margin, m_old, m_new);
+        if self.slip_mu.is_none() && (m_old < 0.0) != (m_b < 0.0) {
+            let margin = move |c: &mut Contact, t: f64| {
+                let s = c.sample_at(t);
+                mu * s.f_n - s.f_1.hypot(s.f_f)
+            };
+            let t = self.locate_in(b, margin, m_old, m_b);
             if t <= t_cut {
-                self.slip.update(t, m_new < 0.0);
+                self.slip.update(t, m_b < 0.0);
             }
         }
-        self.margins = (n_new, m_new);
+        self.margins = (n_b, m_b);
     }
 }
 

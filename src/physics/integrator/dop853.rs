@@ -303,6 +303,21 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         self.dense_ready = true;
     }
 
+    /// Changes the system between steps (a parameter of the right-hand side that the caller
+    /// updates as the run goes, e.g. the sliding contact's reference direction). The last
+    /// step's dense output is completed first with the old system, so it stays that of the
+    /// step as integrated; `f(t, y)`, with which the next step starts, is recomputed.
+    pub fn update_system(&mut self, change: impl FnOnce(&mut S)) {
+        if self.stepped {
+            self.prepare_dense();
+        }
+        change(&mut self.system);
+        let mut f = [0.0; N];
+        self.system.rhs(self.t, &self.y, &mut f);
+        self.stats.rhs_evaluations += 1;
+        self.k[12] = f;
+    }
+
     /// The state at `t` in `[t_prev, t]` of the last step (7th-order interpolant).
     /// Before the first step it returns the initial state.
     pub fn dense(&mut self, t: f64) -> [f64; N] {
