@@ -142,6 +142,18 @@ impl Contact {
         }
     }
 
+    /// While sliding: the slip speed at `t` within the last step (0 while rolling).
+    pub fn slip_speed_at(&mut self, t: f64) -> f64 {
+        match self {
+            Contact::Rolling(_) => 0.0,
+            Contact::Sliding(s) => {
+                let y = s.dense(t);
+                let v = slip_velocity(&s.system.model, &y);
+                v[0].hypot(v[1])
+            }
+        }
+    }
+
     /// While sliding: the slip velocity's component along the reference direction at `t`
     /// within the last step (the stick event's function).
     pub fn slip_along_reference(&mut self, t: f64) -> f64 {

@@ -24,11 +24,14 @@ use super::model::{Dynamics, Model};
 use nalgebra::Vector3;
 
 /// Angular rate, relative to `sqrt(g / R)`, below which the directions of the friction torques
-/// are smoothed (`x / sqrt(|x|^2 + eps^2)` instead of `x / |x|`): Coulomb's law is
-/// discontinuous at zero rate, the integrator needs a smooth right-hand side. At 1e-6 the
-/// smoothing is invisible at any tolerance we use, and the rates of the paper's runs cross zero
-/// quickly enough that the stiff band costs a few steps at most (`ringlab bench`).
-pub const FRICTION_SMOOTHING: f64 = 1e-6;
+/// are smoothed (`x / sqrt(|x|^2 + eps^2)` instead of `x / |x|`). Coulomb's law is
+/// discontinuous at zero rate and, once friction holds a rate at zero (pivot friction can stop
+/// the spin about the normal), the smoothed law is stiff with rate `k F_N / (eps J)`, which an
+/// explicit integrator pays for in steps. Real contacts creep below some rate, so a small band
+/// is physical; at 1e-4 (2e-3 rad/s for the paper's steel ring) the paper ring's runs over the
+/// realistic strengths agree with 1e-6 to 1e-3 in their end time, at a fraction of the cost
+/// (pivot friction k/R = 0.03: 16,000 evaluations instead of 130,000).
+pub const FRICTION_SMOOTHING: f64 = 1e-4;
 
 impl Model {
     /// The rate below which friction directions are smoothed, in the model's units.
@@ -157,11 +160,12 @@ mod tests {
         let w_h = w - z * w.dot(&z);
         let k = 0.05;
         let d = model(Effects { rolling_friction: k, ..Default::default() }).dynamics(theta, &w);
-        // Antiparallel to the rolling part of omega, of size k F_N.
-        assert!((d.contact_torque + k * d.f_n * w_h.normalize()).norm() < 1e-12 * d.f_n);
+        // Antiparallel to the rolling part of omega, of size k F_N (to the smoothing,
+        // (eps/|w_h|)^2 / 2 ~ 1e-8 here).
+        assert!((d.contact_torque + k * d.f_n * w_h.normalize()).norm() < 1e-7 * d.f_n);
         assert!(d.contact_torque.dot(&z).abs() < 1e-15);
         let d = model(Effects { pivot_friction: k, ..Default::default() }).dynamics(theta, &w);
-        assert!((d.contact_torque + k * d.f_n * w.dot(&z).signum() * z).norm() < 1e-12 * d.f_n);
+        assert!((d.contact_torque + k * d.f_n * w.dot(&z).signum() * z).norm() < 1e-7 * d.f_n);
         // Spin the other way: the torque turns round.
         let d2 = model(Effects { pivot_friction: k, ..Default::default() }).dynamics(theta, &(-w));
         assert!(d2.contact_torque.dot(&z) * d.contact_torque.dot(&z) < 0.0);
