@@ -127,18 +127,24 @@ impl Default for RunSection {
     }
 }
 
+/// `[effects]`: the physics beyond the paper's model in the case's own units (the CLI's
+/// `--effect NAME --effect-strength X` sets the same fields from dimensionless strengths, see
+/// `physics::effects::apply`).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct EffectsSection {
-    /// `[re_ref, exponent, max_factor]`.
+    /// `[re_ref, exponent, max_factor]`: `C_i min((re_ref / Re)^exponent, max_factor)`.
     pub reynolds_drag: Option<[f64; 3]>,
+    /// Rolling-resistance arm (length).
     #[serde(default)]
     pub rolling_friction: f64,
+    /// Pivot-friction arm (length).
     #[serde(default)]
     pub pivot_friction: f64,
+    /// Quadratic air drag on the centre of mass, `k` in `-k |v_C| v_C` (1/length).
     #[serde(default)]
     pub translational_drag: f64,
-    /// Kinetic friction coefficient of a sliding contact (absent: pure rolling).
+    /// Friction coefficient of the sliding contact, static and kinetic (absent: pure rolling).
     pub slip_mu: Option<f64>,
 }
 

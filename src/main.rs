@@ -22,6 +22,8 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// List the presets
     Presets,
+    /// List the effects beyond the paper's model, their strengths and realistic ranges
+    Effects,
 }
 
 fn main() -> Result<()> {
@@ -30,6 +32,14 @@ fn main() -> Result<()> {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
+        Some(Command::Effects) => {
+            use ringlab::physics::EffectKind;
+            for k in EffectKind::ALL {
+                let (lo, hi) = k.realistic_range();
+                println!("{:<20} {:<52} realistic {lo} .. {hi}", k.name(), k.parameter());
+            }
+            Ok(())
+        }
         Some(Command::Presets) => {
             for name in ringlab::config::preset_names() {
                 let f = ringlab::config::load_preset(name)?;

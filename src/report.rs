@@ -2,14 +2,14 @@
 //! the sample table (CSV).
 
 use crate::physics::motion::{self, MotionAnalysis};
-use crate::physics::{Interval, RunSummary, Sample};
+use crate::physics::{EffectKind, Effects, Interval, RunSummary, Sample};
 use serde::Serialize;
 use std::io::{self, Write};
 
 /// Columns of the sample CSV, in order.
 pub const CSV_COLUMNS: &[&str] = &[
     "t", "phi", "theta", "psi", "w1", "w2", "w3", "x_c", "y_c", "z_c", "x_a", "y_a", "x_p", "y_p", "v_p", "f_1",
-    "f_f", "f_n", "energy", "reynolds",
+    "f_f", "f_n", "energy", "reynolds", "sliding", "slip_speed",
 ];
 
 /// Writes samples as CSV with a header line.
@@ -19,12 +19,21 @@ pub fn write_samples_csv(out: &mut impl Write, samples: &[Sample]) -> io::Result
         let y = &s.y;
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             s.t, y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7], s.z_c, s.x_a, s.y_a, s.x_p, s.y_p, s.v_p, s.f_1, s.f_f,
-            s.f_n, s.energy, s.reynolds
+            s.f_n, s.energy, s.reynolds, s.sliding as u8, s.slip_speed
         )?;
     }
     Ok(())
+}
+
+/// An effect beyond the paper's model that the run had on.
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectJson {
+    pub name: &'static str,
+    pub strength: f64,
+    /// What the strength is.
+    pub parameter: &'static str,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -49,9 +58,20 @@ pub struct RunReport {
     pub phases: Vec<PhaseJson>,
     /// Intervals `[start, end]` where `F_N <= 0`.
     pub lift_off: Vec<[f64; 2]>,
-    /// Intervals where `sqrt(F_1^2 + F_f^2) > mu F_N`.
+    /// Intervals where `sqrt(F_1^2 + F_f^2) > mu F_N` (pure rolling; with the slip effect
+    /// the contact slides there, see `sliding`).
     pub slip: Vec<[f64; 2]>,
     pub mu: f64,
+    /// The effects beyond the paper's model (empty: the paper's model).
+    pub effects: Vec<EffectJson>,
+    /// Friction coefficient of the sliding contact (slip effect), if on.
+    pub slip_mu: Option<f64>,
+    /// Intervals where the contact slides (slip effect).
+    pub sliding: Vec<[f64; 2]>,
+    /// Total time spent sliding.
+    pub sliding_total: f64,
+    /// Largest slip speed removed at a stick (creep level).
+    pub stick_residual: f64,
     pub friction_ratio_at_theta_max: Vec<f64>,
     pub f_f_at_theta_max: Vec<[f64; 2]>,
     /// `[t, theta]` at each minimum and maximum of theta.
@@ -98,6 +118,11 @@ impl RunReport {
             lift_off: pairs(&summary.lift_off),
             slip: pairs(&summary.slip),
             mu,
+            effects: Vec::new(),
+            slip_mu: None,
+            sliding: pairs(&summary.sliding),
+            sliding_total: summary.sliding.iter().map(|i| i.end - i.start).sum(),
+            stick_residual: summary.stick_residual,
             friction_ratio_at_theta_max: motion.theta_max_points.iter().map(|p| p.friction_ratio).collect(),
             f_f_at_theta_max: motion.theta_max_points.iter().map(|p| [p.t, p.f_f]).collect(),
             theta_min: motion.theta_min.iter().map(|&(t, th)| [t, th]).collect(),
@@ -110,6 +135,15 @@ impl RunReport {
             compute_seconds,
             error: summary.error.as_ref().map(|e| e.to_string()),
         }
+    }
+
+    /// Records the effects the run had on (as given by name and strength, and the model's).
+    pub fn set_effects(&mut self, effects: &Effects, named: &[(EffectKind, f64)]) {
+        self.effects = named
+            .iter()
+            .map(|&(k, x)| EffectJson { name: k.name(), strength: x, parameter: k.parameter() })
+            .collect();
+        self.slip_mu = effects.slip_mu;
     }
 
     /// A few lines for a person: the outcome and every breach of the model's assumptions.
@@ -131,6 +165,9 @@ impl RunReport {
             )
         };
         s += &format!("case {} ({})\n", self.case, self.units);
+        for e in &self.effects {
+            s += &format!("effect {} = {} ({})\n", e.name, e.strength, e.parameter);
+        }
         s += &format!("ended: {} at t = {:.4}\n", self.end_reason, self.t_end);
         if let Some(e) = &self.error {
             s += &format!("integrator: {e}\n");
@@ -147,6 +184,17 @@ impl RunReport {
         );
         if !self.lift_off.is_empty() {
             s += &format!("MODEL INVALID: F_N <= 0 (the body would leave the table) for t in {}\n", fmt_iv(&self.lift_off));
+        }
+        if let Some(mu) = self.slip_mu {
+            if self.sliding.is_empty() {
+                s += &format!("sliding contact (mu = {mu}): it never slid\n");
+            } else {
+                s += &format!(
+                    "sliding contact (mu = {mu}): slid {:.3} of the time, for t in {}\n",
+                    self.sliding_total,
+                    fmt_iv(&self.sliding)
+                );
+            }
         }
         if !self.slip.is_empty() {
             s += &format!(

@@ -96,6 +96,63 @@ fn bad_values_are_named() {
 }
 
 #[test]
+fn effects_from_flags_and_from_a_case_file_agree_and_show_in_the_json() {
+    let out = ringlab(&["simulate", "--json", "--effect", "slip", "--effect-strength", "0.4"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["slip_mu"], 0.4);
+    assert_eq!(v["effects"][0]["name"], "slip");
+    let sliding = v["sliding"].as_array().expect("sliding intervals");
+    assert!(sliding.len() >= 2 && sliding[0][0] == 0.0, "{sliding:?}");
+    assert!(v["slip"].as_array().unwrap().is_empty(), "would-slip is for pure rolling");
+
+    // The same through a case file's [effects].
+    let dir = std::env::temp_dir().join(format!("ringlab-fx-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets/paper-ring.toml")).unwrap();
+    let path = dir.join("slip.toml");
+    std::fs::write(&path, format!("{good}\n[effects]\nslip_mu = 0.4\n")).unwrap();
+    let out = ringlab(&["simulate", "--json", "--config", path.to_str().unwrap()]);
+    let w: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(w["sliding"], v["sliding"]);
+    assert_eq!(w["t_end"], v["t_end"]);
+
+    // Several effects at once, and the samples say when the contact slides.
+    let csv = dir.join("effects.csv");
+    let out = ringlab(&[
+        "simulate", "--effect", "slip", "--effect-strength", "0.4", "--effect", "reynolds_drag", "--effect-strength", "0.5",
+        "--dt", "0.5", "--out", csv.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let human = String::from_utf8_lossy(&out.stdout);
+    assert!(human.contains("effect reynolds_drag = 0.5") && human.contains("sliding contact (mu = 0.4)"), "{human}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.lines().next().unwrap().ends_with(",sliding,slip_speed"));
+    assert!(text.lines().nth(1).unwrap().contains(",1,"), "the start slides");
+    std::fs::write(&path, format!("{good}\n[effects]\nslip_mu = -0.4\n")).unwrap();
+    let out = ringlab(&["simulate", "--config", path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("slip.toml") && err.contains("slip mu"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_effects_are_named() {
+    assert_fails_with(&["simulate", "--effect", "wind", "--effect-strength", "1"], "reynolds_drag, rolling_friction");
+    assert_fails_with(&["simulate", "--effect", "slip"], "--effect-strength");
+    assert_fails_with(&["simulate", "--effect", "slip", "--effect-strength", "-1"], "--effect-strength -1 for slip");
+    assert_fails_with(&["simulate", "--effect", "slip", "--effect-strength", "3"], "Painleve");
+    assert_fails_with(&["simulate", "--effect", "pivot_friction", "--effect-strength", "abc"], "--effect-strength");
+    assert_fails_with(&["simulate", "--effect", "rolling_friction", "--effect-strength", "inf"], "finite");
+    assert_fails_with(&["simulate", "--effect", "camera_distortion", "--effect-strength", "-0.05"], "synth");
+    assert_fails_with(
+        &["simulate", "--effect", "slip", "--effect-strength", "0.3", "--effect", "slip", "--effect-strength", "0.4"],
+        "twice",
+    );
+    assert_fails_with(&["simulate", "--effect-strength", "0.3"], "--effect");
+}
+
+#[test]
 fn bad_case_files_are_named_with_the_file() {
     let dir = std::env::temp_dir().join(format!("ringlab-cfg-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

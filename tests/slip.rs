@@ -197,3 +197,27 @@ fn friction_beyond_the_painleve_limit_is_refused() {
     sneaky.effects.slip_mu = Some(2.0 * limit);
     assert!(Simulation::new(sneaky, &paper::initial(), RunOptions::default()).is_err());
 }
+
+#[test]
+fn all_effects_together_still_lose_energy_and_end_naturally() {
+    // Sliding with the friction torques, air drag on C and Reynolds-dependent drag: the
+    // sliding equations carry them all (slip.rs), and none may add energy.
+    let base = paper::ring_model(paper::C_RING);
+    let s0 = Sample::new(&base, 0.0, &paper::initial().to_state());
+    let mut e = Effects::default();
+    for (k, x) in [
+        (ringlab::physics::EffectKind::ReynoldsDrag, 0.5),
+        (ringlab::physics::EffectKind::RollingFriction, 0.01),
+        (ringlab::physics::EffectKind::PivotFriction, 0.01),
+        (ringlab::physics::EffectKind::TranslationalDrag, 0.1),
+        (ringlab::physics::EffectKind::Slip, 0.3),
+    ] {
+        ringlab::physics::effects::apply(k, x, base.body.r, s0.reynolds, &mut e).unwrap();
+    }
+    let (s, p) = run(base.with_effects(e).unwrap(), &paper::initial(), 0.01);
+    assert!(s.end_reason.is_natural(), "{:?}", s.end_reason);
+    assert!(!s.sliding.is_empty());
+    for w in p.windows(2) {
+        assert!(w[1].energy <= w[0].energy + 1e-12 * w[0].energy.abs(), "energy rose at t = {}", w[1].t);
+    }
+}

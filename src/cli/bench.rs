@@ -5,7 +5,8 @@ use anyhow::Result;
 use clap::Args;
 use ringlab::analysis::sweep::{Axis, run_sweep};
 use ringlab::physics::integrator::{System, Tolerances};
-use ringlab::physics::{RunOptions, Simulation};
+use ringlab::physics::effects::apply;
+use ringlab::physics::{EffectKind, Model, RunOptions, Sample, Simulation};
 use serde::Serialize;
 use std::hint::black_box;
 use std::time::Instant;
@@ -26,6 +27,9 @@ pub struct BenchArgs {
     /// Leave out the sweep (about half a minute)
     #[arg(long)]
     pub skip_sweep: bool,
+    /// Leave out the cost of each effect beyond the paper's model (a few seconds)
+    #[arg(long)]
+    pub skip_effects: bool,
     /// Print the figures as JSON
     #[arg(long)]
     pub json: bool,
@@ -49,6 +53,25 @@ struct BenchReport {
     sweep_seconds: Option<f64>,
     sweep_threads: usize,
     sweep_retrograde: Option<usize>,
+    /// The run to the end with each effect on, same tolerances, no samples or validity.
+    effects: Vec<EffectBench>,
+}
+
+#[derive(Serialize, Debug)]
+struct EffectBench {
+    effect: &'static str,
+    strength: f64,
+    ms: f64,
+    /// Time relative to the run without effects.
+    cost_ratio: f64,
+    rhs_evaluations: u64,
+    /// Right-hand-side evaluations per unit of simulated time, relative to the run without
+    /// effects (independent of the machine's load; the runs end at different times).
+    evaluations_per_time_ratio: f64,
+    steps: u64,
+    t_end: f64,
+    end_reason: &'static str,
+    sliding_intervals: usize,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -110,7 +133,53 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         sweep_seconds: None,
         sweep_threads: args.threads,
         sweep_retrograde: None,
+        effects: Vec::new(),
     };
+    if !args.skip_effects {
+        // Each effect in the middle of its realistic range (geometric), slip at both ends.
+        let start = Sample::new(&model, 0.0, &y0);
+        let mut cases: Vec<(EffectKind, f64)> = Vec::new();
+        for k in EffectKind::ALL.into_iter().filter(|k| k.is_physical()) {
+            let (lo, hi) = k.realistic_range();
+            if k == EffectKind::Slip {
+                cases.push((k, hi));
+                cases.push((k, lo));
+            } else {
+                cases.push((k, (lo * hi).sqrt()));
+            }
+        }
+        let repeats = args.repeats.clamp(1, 11);
+        for (kind, x) in cases {
+            let mut m: Model = model.clone();
+            apply(kind, x, m.body.r, start.reynolds, &mut m.effects)?;
+            let mut times = Vec::new();
+            let mut last = None;
+            for _ in 0..repeats {
+                let clock = Instant::now();
+                let sim = Simulation::new(m.clone(), &case.initial, bare.clone())?;
+                let summary = sim.run(&mut |s| {
+                    black_box(s);
+                });
+                times.push(clock.elapsed().as_secs_f64() * 1e3);
+                last = Some(summary);
+            }
+            let summary = last.expect("at least one run");
+            let ms = median(times);
+            report.effects.push(EffectBench {
+                effect: kind.name(),
+                strength: x,
+                ms,
+                cost_ratio: ms / run_ms,
+                rhs_evaluations: summary.stats.rhs_evaluations,
+                evaluations_per_time_ratio: (summary.stats.rhs_evaluations as f64 / summary.t_end)
+                    / (report.run_rhs_evaluations as f64 / report.run_t_end),
+                steps: summary.stats.steps,
+                t_end: summary.t_end,
+                end_reason: summary.end_reason.as_str(),
+                sliding_intervals: summary.sliding.len(),
+            });
+        }
+    }
     if !args.skip_sweep {
         let axis = Axis { lo: 0.005, hi: 0.5, n: args.sweep_n, log: true };
         let opts = RunOptions { tol: Tolerances { rtol: 1e-8, atol: 1e-10 }, ..case.opts.clone() };
@@ -134,6 +203,21 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         );
         println!("  + turning points and validity: {:.2} ms", report.run_to_rest_with_events_ms);
         println!("  + samples every {}:         {:.2} ms", case.dt, report.run_with_samples_ms);
+        for e in &report.effects {
+            println!(
+                "  with {:<18} {:<7.4}: {:>7.2} ms ({:>4.1}x; {} evaluations, {:.1}x per time unit, {} steps, ended {} at t = {:.3}{})",
+                e.effect,
+                e.strength,
+                e.ms,
+                e.cost_ratio,
+                e.rhs_evaluations,
+                e.evaluations_per_time_ratio,
+                e.steps,
+                e.end_reason,
+                e.t_end,
+                if e.effect == "slip" { format!(", {} sliding intervals", e.sliding_intervals) } else { String::new() }
+            );
+        }
         if let (Some(n), Some(s), Some(r)) = (report.sweep_runs, report.sweep_seconds, report.sweep_retrograde) {
             println!("drag sweep {n} runs (rtol 1e-8): {s:.2} s on {} threads; {r} make the retrograde turn", report.sweep_threads);
         }

@@ -1,6 +1,7 @@
 //! `ringlab simulate`: one run, written as CSV and summarised.
 
 use super::case_args::CaseArgs;
+use super::effect_args::EffectArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use ringlab::physics::{Sample, Simulation};
@@ -13,6 +14,8 @@ use std::time::Instant;
 pub struct SimulateArgs {
     #[command(flatten)]
     pub case: CaseArgs,
+    #[command(flatten)]
+    pub effects: EffectArgs,
     /// Write the samples as CSV to this file ('-' for standard output)
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
@@ -22,7 +25,8 @@ pub struct SimulateArgs {
 }
 
 pub fn run(args: &SimulateArgs) -> Result<()> {
-    let case = args.case.case()?;
+    let mut case = args.case.case()?;
+    let effects = args.effects.apply_to(&mut case)?;
     let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
     let clock = Instant::now();
     let sim = Simulation::new(case.model.clone(), &case.initial, case.opts.clone())?;
@@ -30,7 +34,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let summary = sim.run(&mut |s| samples.push(*s));
     let motion = analyze(&start, &summary);
     let seconds = clock.elapsed().as_secs_f64();
-    let report = RunReport::new(&case.name, case.units.label(), case.opts.mu, &start, &summary, &motion, seconds);
+    let mut report = RunReport::new(&case.name, case.units.label(), case.opts.mu, &start, &summary, &motion, seconds);
+    report.set_effects(&case.model.effects, &effects);
 
     if let Some(path) = &args.out {
         if path.as_os_str() == "-" {

@@ -17,7 +17,8 @@ pub enum EffectKind {
     RollingFriction,
     /// Pivot friction torque `k F_N` against spin about the table normal; strength `k / R`.
     PivotFriction,
-    /// Coulomb sliding at the contact with kinetic friction coefficient `mu`; strength `mu`.
+    /// Coulomb sliding at the contact with friction coefficient `mu` (one coefficient for
+    /// static and kinetic friction); strength `mu`.
     Slip,
     /// Air drag on the centre of mass `-k |v_C| v_C`; strength `k R`.
     TranslationalDrag,
@@ -59,7 +60,7 @@ impl EffectKind {
             EffectKind::ReynoldsDrag => "exponent n of C(Re) = C (Re_0/Re)^n",
             EffectKind::RollingFriction => "rolling-resistance arm k/R",
             EffectKind::PivotFriction => "pivot-friction arm k/R",
-            EffectKind::Slip => "kinetic friction coefficient mu",
+            EffectKind::Slip => "friction coefficient mu (static = kinetic)",
             EffectKind::TranslationalDrag => "translational drag k R",
             EffectKind::CameraDistortion => "radial distortion k1 (at the image half-diagonal)",
         }

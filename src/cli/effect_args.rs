@@ -1,0 +1,97 @@
+//! `--effect NAME --effect-strength X` (repeatable): the physics beyond the paper's model, by
+//! the names and dimensionless strengths of `physics::effects`.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use ringlab::config::Case;
+use ringlab::physics::effects::apply;
+use ringlab::physics::slip::painleve_mu_limit;
+use ringlab::physics::{EffectKind, Sample};
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct EffectArgs {
+    /// Add physics beyond the paper's model (repeatable): reynolds_drag, rolling_friction,
+    /// pivot_friction, slip, translational_drag (or none); each takes an --effect-strength,
+    /// in the same order. `ringlab effects` lists them with their strengths and ranges
+    #[arg(long = "effect", value_name = "NAME")]
+    pub effect: Vec<String>,
+    /// Strength of the --effect at the same position (dimensionless: the Reynolds exponent n,
+    /// arms k/R, the friction coefficient mu, or k R)
+    #[arg(long = "effect-strength", value_name = "X", allow_negative_numbers = true)]
+    pub effect_strength: Vec<f64>,
+}
+
+fn known_names() -> String {
+    EffectKind::ALL.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ")
+}
+
+impl EffectArgs {
+    /// The effects asked for, validated as names and paired with their strengths.
+    pub fn effects(&self) -> Result<Vec<(EffectKind, f64)>> {
+        let kinds = self
+            .effect
+            .iter()
+            .map(|name| {
+                EffectKind::from_name(name).with_context(|| format!("--effect '{name}' is not one of {}", known_names()))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        if kinds == [EffectKind::None] && self.effect_strength.is_empty() {
+            return Ok(Vec::new());
+        }
+        if kinds.len() != self.effect_strength.len() {
+            let missing = kinds.get(self.effect_strength.len()).copied();
+            match missing {
+                Some(k) => bail!(
+                    "--effect {k} needs an --effect-strength X ({}); give one --effect-strength per --effect, in the same order",
+                    k.parameter()
+                ),
+                None => bail!(
+                    "{} --effect-strength values for {} --effect names; give one --effect-strength per --effect, in the same order",
+                    self.effect_strength.len(),
+                    kinds.len()
+                ),
+            }
+        }
+        let mut out: Vec<(EffectKind, f64)> = Vec::new();
+        for (&kind, &x) in kinds.iter().zip(&self.effect_strength) {
+            if out.iter().any(|(k, _)| *k == kind) {
+                bail!("--effect {kind} is given twice");
+            }
+            if !x.is_finite() {
+                bail!("--effect-strength {x} for {kind}: must be a finite number");
+            }
+            if kind != EffectKind::None {
+                out.push((kind, x));
+            }
+        }
+        Ok(out)
+    }
+
+    /// Switches the effects on in `case` (the physical ones; `camera_distortion` is refused:
+    /// it belongs to a recording, not to the motion).
+    pub fn apply_to(&self, case: &mut Case) -> Result<Vec<(EffectKind, f64)>> {
+        let effects = self.effects()?;
+        let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
+        for &(kind, x) in &effects {
+            if kind == EffectKind::CameraDistortion {
+                bail!("--effect camera_distortion changes the camera, not the motion: give it to `ringlab synth`");
+            }
+            let mut e = case.model.effects;
+            apply(kind, x, case.model.body.r, start.reynolds, &mut e)
+                .with_context(|| format!("--effect-strength {x} for {kind} ({})", kind.parameter()))?;
+            let mut model = case.model.clone();
+            model.effects = e;
+            if let Err(err) = model.check_effects() {
+                if kind == EffectKind::Slip {
+                    bail!(
+                        "--effect-strength {x} for slip: {err}; for this body mu must stay below {:.3}",
+                        painleve_mu_limit(&model)
+                    );
+                }
+                bail!("--effect-strength {x} for {kind}: {err}");
+            }
+            case.model = model;
+        }
+        Ok(effects)
+    }
+}
