@@ -8,9 +8,12 @@ use super::model::{Model, STATE_LEN, StateVec, ix};
 use super::sample::Sample;
 use super::slip::{SLIDE_LEN, SlideVec, SlidingModel, sliding_energy, slip_velocity};
 
+// One per run: the rolling stepper stays inline (the fast path), the sliding one is boxed.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Contact {
     Rolling(Dop853<Model, STATE_LEN>),
-    Sliding(Dop853<SlidingModel, SLIDE_LEN>),
+    /// Boxed: the larger stepper, and off the rolling fast path.
+    Sliding(Box<Dop853<SlidingModel, SLIDE_LEN>>),
 }
 
 fn head(y: &SlideVec) -> StateVec {
@@ -31,7 +34,7 @@ impl Contact {
         tol: Tolerances,
         h_max: f64,
     ) -> Result<Contact, IntegratorError> {
-        Ok(Contact::Sliding(Dop853::new(model, t0, y0, tol, h_max)?))
+        Ok(Contact::Sliding(Box::new(Dop853::new(model, t0, y0, tol, h_max)?)))
     }
 
     pub fn is_sliding(&self) -> bool {

@@ -145,7 +145,10 @@ impl Simulation {
         opts.validate().map_err(RunError::Param)?;
         model.check_effects().map_err(RunError::Param)?;
         let slip_mu = model.effects.slip_mu;
-        let onset = slip_mu.is_some_and(|mu| !(stick_margin(&model, mu, &y0) >= 0.0));
+        let onset = slip_mu.is_some_and(|mu| {
+            let m = stick_margin(&model, mu, &y0);
+            m < 0.0 || m.is_nan()
+        });
         let contact = if let (true, Some(mu)) = (onset, slip_mu) {
             let s_ref = onset_direction(&model, &y0);
             let ys = sliding_state(&model, &y0);
@@ -386,12 +389,12 @@ impl Simulation {
         let switch_t = switch.map(|s| s.0);
         let t_limit = switch_t.unwrap_or(t_cut);
 
-        if let Some((kind, t, y)) = turn {
-            if t <= t_limit {
-                let sample = self.contact.sample_at(t);
-                debug_assert_eq!(sample.y, y);
-                self.turning_points.push(TurningPoint { kind, sample });
-            }
+        if let Some((kind, t, y)) = turn
+            && t <= t_limit
+        {
+            let sample = self.contact.sample_at(t);
+            debug_assert_eq!(sample.y, y);
+            self.turning_points.push(TurningPoint { kind, sample });
         }
 
         if self.opts.track_validity {

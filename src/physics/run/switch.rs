@@ -66,7 +66,7 @@ impl Simulation {
                 let y = c.dense(t);
                 stick_margin(c.model(), mu, &y)
             };
-            if !(m_old >= 0.0) {
+            if m_old < 0.0 || m_old.is_nan() {
                 // Rolling although the margin is negative can only be the instant of a stick
                 // with no friction to spare: slide at once.
                 return Some((t_old, Switch::Contact));
@@ -95,7 +95,7 @@ impl Simulation {
                     }
                 }
             }
-            if !(m_old > 0.0) {
+            if m_old <= 0.0 || m_old.is_nan() {
                 return None;
             }
             let m_new = self.contact.slip_along_reference(t_new);
