@@ -221,3 +221,21 @@ fn all_effects_together_still_lose_energy_and_end_naturally() {
         assert!(w[1].energy <= w[0].energy + 1e-12 * w[0].energy.abs(), "energy rose at t = {}", w[1].t);
     }
 }
+
+#[test]
+fn a_sliding_run_in_mm_is_the_model_run_rescaled() {
+    // The creep speed, the friction smoothing and the Painleve limit are all relative to the
+    // body's own scales, so the sliding contact does not depend on the unit system.
+    let mut case = ringlab::config::load_preset("paper-ring").unwrap().build().unwrap();
+    case.model = with_mu(case.model.clone(), 0.4);
+    case.opts.sample_dt = None;
+    let mm = case.in_units(ringlab::physics::Units::MM_S).unwrap();
+    let (a, _) = simulate(case.model.clone(), &case.initial, case.opts.clone()).unwrap();
+    let (b, _) = simulate(mm.model.clone(), &mm.initial, mm.opts.clone()).unwrap();
+    let t0 = case.units.time_s;
+    assert_eq!(a.sliding.len(), b.sliding.len());
+    for (i, j) in a.sliding.iter().zip(&b.sliding) {
+        assert!((j.start - i.start * t0).abs() < 1e-6 * t0 && (j.end - i.end * t0).abs() < 1e-5 * t0, "{i:?} vs {j:?}");
+    }
+    assert!((b.t_end - a.t_end * t0).abs() < 1e-5 * b.t_end);
+}

@@ -20,6 +20,8 @@ pub struct RunOptions {
     pub t_end: f64,
     pub tol: Tolerances,
     pub theta_flat: f64,
+    /// Static friction coefficient of the would-slip check of pure rolling. With the slip
+    /// effect the contact's own coefficient (`Effects::slip_mu`) decides the switches instead.
     pub mu: f64,
     /// Emit samples every `sample_dt` (none: no samples).
     pub sample_dt: Option<f64>,
