@@ -54,9 +54,10 @@ pub const VY: usize = 9;
 /// `~ mu F_N / |v_s|` as the slip speed falls, a stiffness that an explicit integrator pays for
 /// with steps while the slip is small (at its onset it grows from zero). Real contacts creep
 /// below some slip speed; 3e-5 (0.014 mm/s for the paper's steel ring) is below any creep
-/// scale: the paper ring's runs for mu from 0.1 to 1 end within 0.003 time units of those
-/// with 1e-10, in 4 to 20 times fewer steps (1e-4 moved the end of the mu = 0.3 run by 0.9).
-/// It also gives the direction at the onset of sliding, where `v_s = 0`.
+/// scale: the paper ring's runs for mu from 0.1 to 1 end at the same times (to 0.001) and
+/// places (A to 0.01 mean radii) as with 1e-6 or 1e-4, with 1.5 to 2 times fewer steps than
+/// 1e-6 (1e-10 needed up to 20 times more). It also gives the direction at the onset of
+/// sliding, where `v_s = 0`.
 pub const SLIP_DIRECTION_BLEND: f64 = 3e-5;
 
 /// Slip speeds, in units of the creep speed, above which the reference direction no longer
