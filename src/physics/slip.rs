@@ -27,13 +27,18 @@
 //!
 //! Energy: `dE/dt = F . v_P + (drag, friction torques) = -mu F_N |v_s| + ... <= 0`.
 //!
-//! Transitions (handled by the run, `contact.rs`): rolling turns to sliding when
-//! `|F_t| > mu F_N` for the friction `F_t` that rolling needs, with the slip direction starting
-//! opposite to `F_t` (the limit of the consistent direction as the excess goes to zero); the
-//! contact sticks again when the slip velocity's component along its last direction reaches
-//! zero and the friction that rolling then needs is within `mu F_N`. Sticking removes the
-//! residual slip (rounding level) with a plastic tangential impulse at P, which cannot add
-//! energy.
+//! Transitions (handled by the run, `run/switch.rs`, as events on the dense output):
+//! - rolling turns to sliding where `|F_t| > mu F_N` for the friction `F_t` that rolling needs
+//!   (or where `F_N <= 0`); the slip starts from zero in the direction opposite to `F_t`, the
+//!   limit of the consistent direction as the excess demand goes to zero;
+//! - the slip's reference direction `s_ref` follows the slip while it is fast and is set to the
+//!   slip's own direction where the slip speed falls to 40 creep speeds (an event), so the
+//!   equations never depend on the steps taken ([`SlidingModel::friction_direction`]);
+//! - the slip has run out where its component along `s_ref` reaches zero: if no more than the
+//!   creep speed is left and rolling then needs no more than `mu F_N`, the contact sticks (a
+//!   plastic impulse at P removes that creep-level slip, which cannot add energy); if more is
+//!   left the slip has turned and it slides on with `s_ref` turned; otherwise it slides on
+//!   from zero slip in the onset direction.
 
 use super::body::Body;
 use super::integrator::System;
