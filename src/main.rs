@@ -18,6 +18,8 @@ enum Command {
     Simulate(cli::simulate::SimulateArgs),
     /// Run a grid of drag coefficients and classify each run
     Sweep(cli::sweep::SweepArgs),
+    /// Make a recording (format v1) from the model: marks, camera, noise, effects
+    Synth(cli::synth::SynthArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
     /// List the presets
@@ -29,6 +31,7 @@ fn main() -> Result<()> {
     match cli.command {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
+        Some(Command::Synth(a)) => cli::synth::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
         Some(Command::Presets) => {
             for name in ringlab::config::preset_names() {

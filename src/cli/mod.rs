@@ -4,3 +4,4 @@ pub mod bench;
 pub mod case_args;
 pub mod simulate;
 pub mod sweep;
+pub mod synth;
