@@ -1,0 +1,382 @@
+//! The stages of the fit (see the module doc of `analysis::fit`).
+
+use super::coarse::{self, Features};
+use super::lm::{self, LmError, LmOptions};
+use super::params::{Free, ModelSpec};
+use super::shooting::{OneSegment, Shooting, predict_samples};
+use crate::analysis::sweep::Axis;
+use crate::physics::effects::EffectKind;
+use crate::physics::integrator::Tolerances;
+use crate::physics::model::ix;
+use crate::physics::{Initial, Model, ParamError, RunOptions, Sample, StateVec, TurnKind, Units};
+use crate::recording::marks::MarkGeometry;
+use crate::recording::recover::{RecoverError, RecoveredMotion, recover_with};
+use crate::recording::{Camera, Recording};
+use nalgebra::Vector3;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use thiserror::Error;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Frames per shooting segment.
+    pub segment_frames: usize,
+    /// Drag to start from (and to use for the start state).
+    pub c_start: [f64; 3],
+    /// Run the coarse grid (else start the least squares from `c_start`).
+    pub coarse: bool,
+    pub coarse_axes: [Axis; 3],
+    /// An effect whose strength is fitted too, with its starting strength.
+    pub effect: Option<(EffectKind, f64)>,
+    /// The camera's radial distortion, when known (`camera_distortion` fits it instead).
+    pub lens_k1: f64,
+    pub tolerances: Tolerances,
+    pub max_iterations: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            segment_frames: 60,
+            c_start: crate::physics::paper::C_RING,
+            coarse: true,
+            coarse_axes: [Axis { lo: 0.005, hi: 0.5, n: 6, log: true }; 3],
+            effect: None,
+            lens_k1: 0.0,
+            tolerances: Tolerances { rtol: 1e-10, atol: 1e-12 },
+            max_iterations: 30,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FitStage {
+    Recover,
+    StartState,
+    Sweep,
+    Segments,
+    Refine,
+}
+
+impl FitStage {
+    pub fn describe(self) -> &'static str {
+        match self {
+            FitStage::Recover => "recovering the motion",
+            FitStage::StartState => "start state",
+            FitStage::Sweep => "coarse drag grid",
+            FitStage::Segments => "segment states",
+            FitStage::Refine => "least squares",
+        }
+    }
+}
+
+/// Where a fit is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitProgress {
+    pub stage: FitStage,
+    pub done: usize,
+    pub total: usize,
+    /// The misfit so far (px), where known.
+    pub rms_px: Option<f64>,
+}
+
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FitError {
+    #[error(transparent)]
+    Recover(#[from] RecoverError),
+    #[error("invalid fit setting: {0}")]
+    Options(String),
+    #[error("the model cannot be built: {0}")]
+    Model(ParamError),
+    #[error("no inner turning point (theta minimum) found to start from")]
+    NoStart,
+    #[error("too few frames after the start (frame {start}) to fit: {frames}")]
+    TooFewFrames { start: usize, frames: usize },
+    #[error("the start state cannot be reconstructed at frame {0} (marks missing around it?)")]
+    NoStartState(usize),
+    #[error("the model cannot be evaluated at the starting parameters")]
+    BadStart,
+    #[error("the fit was cancelled")]
+    Cancelled,
+}
+
+impl From<LmError> for FitError {
+    fn from(e: LmError) -> Self {
+        match e {
+            LmError::Cancelled => FitError::Cancelled,
+            LmError::BadStart => FitError::BadStart,
+        }
+    }
+}
+
+/// What a fit found.
+#[derive(Clone, Debug)]
+pub struct FitResult {
+    pub c: [f64; 3],
+    /// One standard deviation (infinite where the data do not constrain it).
+    pub c_sigma: [f64; 3],
+    /// A fitted effect: kind, strength and its sigma.
+    pub effect: Option<(EffectKind, f64, f64)>,
+    /// The start state at the first inner turning point (model units).
+    pub start: Initial,
+    /// Its time (model units, frame `i` at `i dt`) and fractional frame index.
+    pub start_t: f64,
+    pub start_frame: f64,
+    /// RMS of model minus recording over every tracked mark coordinate fitted (px).
+    pub rms_px: f64,
+    pub residual_count: usize,
+    pub parameter_count: usize,
+    /// Frames fitted (from the start to the end).
+    pub frames: usize,
+    pub noise_px: Option<f64>,
+    pub segments: Vec<Range<usize>>,
+    pub segment_states: Vec<StateVec>,
+    pub coarse_c: Option<[f64; 3]>,
+    pub iterations: usize,
+    /// The fitted model and camera (model units).
+    pub model: Model,
+    pub camera: Camera,
+    pub units: Units,
+    /// Model time per frame.
+    pub dt: f64,
+    pub compute_seconds: f64,
+}
+
+/// Fits the model to a recording. `progress` is called from worker threads; `cancel` stops
+/// the fit at the next evaluation with [`FitError::Cancelled`].
+pub fn fit(
+    rec: &Recording,
+    opts: &FitOptions,
+    progress: &(dyn Fn(&FitProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<FitResult, FitError> {
+    let clock = Instant::now();
+    let report = |stage, done, total, rms_px| progress(&FitProgress { stage, done, total, rms_px });
+    let check = || if cancel.load(Ordering::Relaxed) { Err(FitError::Cancelled) } else { Ok(()) };
+    if opts.segment_frames < 10 {
+        return Err(FitError::Options(format!("segments of {} frames are too short (10 at least)", opts.segment_frames)));
+    }
+    report(FitStage::Recover, 0, 1, None);
+    let camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
+    let motion = recover_with(rec, camera)?;
+    check()?;
+    let start = motion.first_inner_turn.ok_or(FitError::NoStart)?;
+    let f0 = start.at.floor().max(0.0) as usize;
+    let n = rec.frames.len();
+    let moving_end = motion.rest_from.unwrap_or(n).max(f0);
+    if moving_end - f0 < opts.segment_frames.min(20) {
+        return Err(FitError::TooFewFrames { start: f0, frames: moving_end - f0 });
+    }
+
+    let units = motion.units;
+    let to_model = motion.to_model();
+    let body = motion.body_model().map_err(FitError::Model)?;
+    let base = Model::new(body, units.g(), opts.c_start, units.nu_air()).map_err(FitError::Model)?;
+    let dt = 1.0 / motion.fps * to_model.time;
+    let y0 = reconstruct(&motion, f0).ok_or(FitError::NoStartState(f0))?;
+    let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
+    if let Some((kind, _)) = opts.effect {
+        if kind != EffectKind::None {
+            free.push(Free::Effect(kind));
+        }
+    }
+    let re_start = Sample::new(&base, 0.0, &y0).reynolds;
+    let spec = ModelSpec { base, camera, free, re_start };
+    let shooting = Shooting {
+        observed: &rec.frames,
+        segments: split(f0, moving_end, n, opts.segment_frames),
+        dt,
+        spec,
+        run: RunOptions { tol: opts.tolerances, ..RunOptions::default() },
+        geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
+        length_mm: 1.0 / to_model.length,
+    };
+    let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
+    if let Some((EffectKind::CameraDistortion, k1)) = opts.effect {
+        global[3] = k1;
+    } else if let Some((_, strength)) = opts.effect {
+        if let Some(g) = global.get_mut(3) {
+            *g = strength;
+        }
+    }
+
+    // The start state, refined on the first segment with the starting drag.
+    report(FitStage::StartState, 0, 1, None);
+    let y0 = fit_segment(&shooting, 0, &global, &[y0], cancel)?.0;
+    check()?;
+
+    // Coarse grid on phase-free features.
+    let mut coarse_c = None;
+    if opts.coarse {
+        let features = features(&motion, f0, moving_end, n, dt);
+        let t0 = f0 as f64 * dt;
+        let t_stop = (n as f64 + 1.0) * dt;
+        let total = opts.coarse_axes.iter().map(|a| a.n).product::<usize>() + 125;
+        let (c, score) = coarse::sweep(&shooting.spec.base, &shooting.run, t0, &y0, &features, t_stop, opts.coarse_axes, &|k, _| {
+            report(FitStage::Sweep, k, total, None)
+        });
+        check()?;
+        if score.is_finite() {
+            coarse_c = Some(c);
+            for i in 0..3 {
+                global[i] = c[i].ln();
+            }
+        }
+    }
+
+    // Each segment's state in turn.
+    let count = shooting.segments.len();
+    let mut states: Vec<StateVec> = Vec::with_capacity(count);
+    states.push(y0);
+    for s in 1..count {
+        report(FitStage::Segments, s, count, None);
+        let mut starts = Vec::new();
+        let (model, _) = shooting.spec.build(&global).ok_or(FitError::BadStart)?;
+        let prev = shooting.segments[s - 1].clone();
+        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1) {
+            if let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt) {
+                starts.push(last.y);
+            }
+        }
+        if let Some(y) = reconstruct(&motion, shooting.segments[s].start) {
+            starts.push(y);
+        }
+        if starts.is_empty() {
+            starts.push(states[s - 1]);
+        }
+        states.push(fit_segment(&shooting, s, &global, &starts, cancel)?.0);
+    }
+    // The first segment again, with the coarse drag.
+    states[0] = fit_segment(&shooting, 0, &global, &[states[0]], cancel)?.0;
+
+    // Everything together.
+    let lm_opts = LmOptions { max_iterations: opts.max_iterations, rel_tol: 1e-6, ..LmOptions::default() };
+    let locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
+    let m_total: usize = (0..count).map(|s| shooting.residual_count(s)).sum();
+    let max_it = opts.max_iterations;
+    let sol = lm::solve(
+        &shooting,
+        global,
+        locals,
+        &lm_opts,
+        &mut |k, cost| report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt())),
+        cancel,
+    )?;
+    let values = shooting.spec.to_values(&sol.global);
+    let params = sol.global.len() + count * 8;
+    let variance = sol.cost / (sol.residual_count.saturating_sub(params)).max(1) as f64;
+    let jac = shooting.spec.value_per_internal(&sol.global);
+    let sigma = |i: usize| {
+        sol.global_cov_unscaled
+            .as_ref()
+            .map(|c| c[(i, i)])
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .map_or(f64::INFINITY, |v| jac[i] * (variance * v).sqrt())
+    };
+    let segment_states: Vec<StateVec> = sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+    let (model, camera) = shooting.spec.build(&sol.global).ok_or(FitError::BadStart)?;
+    let (start, start_t) = start_at_turning_point(&model, &shooting.run, dt, f0, &segment_states[0]);
+    let effect = match shooting.spec.free.get(3) {
+        Some(Free::Effect(kind)) => Some((*kind, values[3], sigma(3))),
+        _ => None,
+    };
+    Ok(FitResult {
+        c: [values[0], values[1], values[2]],
+        c_sigma: [sigma(0), sigma(1), sigma(2)],
+        effect,
+        start,
+        start_t,
+        start_frame: start_t / dt,
+        rms_px: (sol.cost / sol.residual_count.max(1) as f64).sqrt(),
+        residual_count: sol.residual_count,
+        parameter_count: params,
+        frames: n - f0,
+        noise_px: motion.noise_px,
+        segments: shooting.segments.clone(),
+        segment_states,
+        coarse_c,
+        iterations: sol.iterations,
+        model,
+        camera,
+        units,
+        dt,
+        compute_seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Segments of `len` frames over `start..moving_end`; a short remainder joins the last
+/// segment, and the last one takes the still frames up to `n` too.
+fn split(start: usize, moving_end: usize, n: usize, len: usize) -> Vec<Range<usize>> {
+    let mut out = Vec::new();
+    let mut a = start;
+    while a < moving_end {
+        let b = (a + len).min(moving_end);
+        out.push(a..b);
+        a = b;
+    }
+    if out.len() > 1 && out.last().is_some_and(|r| r.len() < len / 2) {
+        let last = out.pop().map_or(moving_end, |r| r.end);
+        if let Some(prev) = out.last_mut() {
+            prev.end = last;
+        }
+    }
+    if let Some(last) = out.last_mut() {
+        last.end = n;
+    }
+    out
+}
+
+/// The state at frame `i` from the recovered poses, trying the frames nearby.
+fn reconstruct(motion: &RecoveredMotion, i: usize) -> Option<StateVec> {
+    (0..4).flat_map(|d| [i + d, i.saturating_sub(d)]).find_map(|j| motion.state(j, 4))
+}
+
+/// Fits segment `s`'s start state from the best of `starts` with the globals fixed.
+fn fit_segment(sh: &Shooting, s: usize, global: &[f64], starts: &[StateVec], cancel: &AtomicBool) -> Result<(StateVec, f64), FitError> {
+    let problem = OneSegment { shooting: sh, segment: s, global: global.to_vec() };
+    let cost = |y: &StateVec| {
+        sh.segment_residuals(s, global, y).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum::<f64>())
+    };
+    let best = starts.iter().copied().min_by(|a, b| cost(a).total_cmp(&cost(b))).ok_or(FitError::BadStart)?;
+    let opts = LmOptions { max_iterations: 25, rel_tol: 1e-6, ..LmOptions::default() };
+    match lm::solve(&problem, best.to_vec(), vec![vec![]], &opts, &mut |_, _| {}, cancel) {
+        Ok(sol) => Ok((sol.global.as_slice().try_into().unwrap_or(best), sol.cost)),
+        Err(LmError::Cancelled) => Err(FitError::Cancelled),
+        // A start the model cannot run from: keep it, the joint fit may still move it.
+        Err(LmError::BadStart) => Ok((best, f64::INFINITY)),
+    }
+}
+
+/// The data's features for the coarse stage, in model time.
+fn features(motion: &RecoveredMotion, f0: usize, moving_end: usize, n: usize, dt: f64) -> Features {
+    let turning_points = motion
+        .turning_points
+        .iter()
+        .filter(|p| p.at > f0 as f64 + 0.5 && p.at < moving_end as f64)
+        .map(|p| (p.kind, p.at * dt, p.theta, p.theta_sigma))
+        .collect();
+    let t_end = (moving_end < n).then_some(moving_end as f64 * dt);
+    Features { turning_points, t_end, t_end_sigma: 2.0 * dt }
+}
+
+/// The model's state at the first inner turning point: at frame `f0` when `theta`'s minimum
+/// lies within half a frame before it (the start is the turning point to the frame), else the
+/// first minimum the model passes in the first segment.
+fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, y0: &StateVec) -> (Initial, f64) {
+    let t0 = f0 as f64 * dt;
+    let w = Vector3::new(y0[ix::W1], y0[ix::W2], y0[ix::W3]);
+    let theta_ddot = model.dynamics(y0[ix::THETA], &w).omega_dot.x;
+    let vertex = if theta_ddot > 0.0 { -y0[ix::W1] / theta_ddot } else { f64::INFINITY };
+    if (-0.5 * dt..=0.0).contains(&vertex) {
+        return (Initial::from_state(y0), t0);
+    }
+    let opts = RunOptions { t_end: t0 + 40.0 * dt, sample_dt: None, track_validity: false, ..run.clone() };
+    if let Ok(sim) = crate::physics::Simulation::from_state(model.clone(), t0, *y0, opts) {
+        let summary = sim.run(&mut |_| {});
+        if let Some(p) = summary.turning_points.iter().find(|p| p.kind == TurnKind::ThetaMin) {
+            return (Initial::from_state(&p.sample.y), p.sample.t);
+        }
+    }
+    (Initial::from_state(y0), t0)
+}
