@@ -190,6 +190,7 @@ pub fn fit(
         spec,
         run: RunOptions { tol: opts.tolerances, ..RunOptions::default() },
         geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
+        rest_from: motion.rest_from,
         length_mm: 1.0 / to_model.length,
     };
     let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
@@ -234,7 +235,7 @@ pub fn fit(
         let mut starts = Vec::new();
         let (model, _) = shooting.spec.build(&global).ok_or(FitError::BadStart)?;
         let prev = shooting.segments[s - 1].clone();
-        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1) {
+        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1, None) {
             if let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt) {
                 starts.push(last.y);
             }
