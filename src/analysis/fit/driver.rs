@@ -18,6 +18,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use thiserror::Error;
 
+/// The flat limit of the fit's runs, closer to flat than a plain run's (`pi/2 - 0.02`): a
+/// model that is still off may otherwise end on a `theta` maximum before the recording's ring
+/// comes to rest, and whether a maximum crosses the limit is all or nothing.
+pub const FIT_THETA_FLAT: f64 = std::f64::consts::FRAC_PI_2 - 0.005;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
     /// Frames per shooting segment.
@@ -188,7 +193,7 @@ pub fn fit(
         segments: split(f0, moving_end, n, opts.segment_frames),
         dt,
         spec,
-        run: RunOptions { tol: opts.tolerances, ..RunOptions::default() },
+        run: RunOptions { tol: opts.tolerances, theta_flat: FIT_THETA_FLAT, ..RunOptions::default() },
         geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
         rest_from: motion.rest_from,
         length_mm: 1.0 / to_model.length,
