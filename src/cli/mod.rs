@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod case_args;
+pub mod fit;
 pub mod simulate;
 pub mod sweep;
 pub mod synth;
