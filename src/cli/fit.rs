@@ -20,9 +20,12 @@ pub struct FitArgs {
     /// Print the result as one JSON object
     #[arg(long)]
     pub json: bool,
-    /// Frames per shooting segment
+    /// Frames per shooting segment at first (doubled while the data allow, see --merges)
     #[arg(long, default_value_t = 60)]
     pub segment_frames: usize,
+    /// How many times the segments may be doubled in length
+    #[arg(long, default_value_t = 2)]
+    pub merges: usize,
     /// Leave out the coarse drag grid (start the least squares from --c-start)
     #[arg(long)]
     pub no_coarse: bool,
@@ -56,12 +59,14 @@ struct FitReport {
     rms_px: f64,
     frames: usize,
     compute_seconds: f64,
+    frames_fitted: usize,
     noise_px: Option<f64>,
     start_frame: f64,
     start_time_s: f64,
     time_unit_s: f64,
     length_unit_mm: f64,
     segments: usize,
+    segment_frames: usize,
     iterations: usize,
     residuals: usize,
     parameters: usize,
@@ -98,12 +103,14 @@ impl FitReport {
             rms_px: r.rms_px,
             frames: r.frames,
             compute_seconds: r.compute_seconds,
+            frames_fitted: r.frames_fitted,
             noise_px: r.noise_px,
             start_frame: r.start_frame,
             start_time_s: r.start_t * r.units.time_s,
             time_unit_s: r.units.time_s,
             length_unit_mm: r.units.length_mm,
             segments: r.segments.len(),
+            segment_frames: r.segments.first().map_or(0, |s| s.len()),
             iterations: r.iterations,
             residuals: r.residual_count,
             parameters: r.parameter_count,
@@ -147,6 +154,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
     let rec = read_recording(&args.file)?;
     let opts = FitOptions {
         segment_frames: args.segment_frames,
+        merges: args.merges,
         c_start,
         coarse: !args.no_coarse,
         effect,
@@ -195,7 +203,14 @@ pub fn run(args: &FitArgs) -> Result<()> {
         return Ok(());
     }
     let pm = |x: f64, s: f64| if s.is_finite() { format!("{x:.5} +- {s:.5}") } else { format!("{x:.5} (unconstrained)") };
-    println!("{}: {} frames fitted from frame {:.2} ({:.4} s)", args.file.display(), r.frames, r.start_frame, report.start_time_s);
+    println!(
+        "{}: {} frames, {} fitted from the first inner turning point at frame {:.2} ({:.4} s)",
+        args.file.display(),
+        r.frames,
+        r.frames_fitted,
+        r.start_frame,
+        report.start_time_s
+    );
     println!("drag  C1 = {}, C2 = {}, C3 = {}", pm(r.c[0], r.c_sigma[0]), pm(r.c[1], r.c_sigma[1]), pm(r.c[2], r.c_sigma[2]));
     if let Some((k, s, sd)) = r.effect {
         println!("effect {k} = {}  ({})", pm(s, sd), k.parameter());
@@ -209,7 +224,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
         r.rms_px,
         r.residual_count,
         r.segments.len(),
-        opts.segment_frames,
+        r.segments.first().map_or(0, |s| s.len()),
         r.parameter_count,
         r.noise_px.map_or("unknown".into(), |n| format!("{n:.3} px"))
     );

@@ -81,8 +81,9 @@ pub struct FrameMotion {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DataTurningPoint {
     pub kind: TurnKind,
-    /// Fractional index into the frames.
+    /// Fractional index into the frames, and its standard deviation.
     pub at: f64,
+    pub at_sigma: f64,
     pub t_s: f64,
     pub theta: f64,
     pub theta_sigma: f64,
@@ -160,6 +161,7 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
     let to_point = |e: &Extremum| DataTurningPoint {
         kind: e.kind,
         at: e.at,
+        at_sigma: e.at_sigma,
         t_s: rec.time_s(0) + e.at / fps,
         theta: e.value,
         theta_sigma: e.sigma,
@@ -170,6 +172,7 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
         None => DataTurningPoint {
             kind: TurnKind::ThetaMin,
             at: 0.0,
+            at_sigma: 0.5,
             t_s: rec.time_s(0),
             theta: smoothed.value[0],
             theta_sigma: smoothed.value_sigma[0],

@@ -72,6 +72,8 @@ pub struct Extremum {
     pub kind: TurnKind,
     /// Fractional frame index.
     pub at: f64,
+    /// Its standard deviation: the slope's over the slope's change per frame.
+    pub at_sigma: f64,
     pub value: f64,
     pub sigma: f64,
 }
@@ -89,7 +91,8 @@ pub fn extrema(s: &Smoothed, k_sigma: f64) -> Vec<Extremum> {
         let kind = if d0 > 0.0 { TurnKind::ThetaMax } else { TurnKind::ThetaMin };
         let j = if f < 0.5 { i - 1 } else { i };
         let value = s.value[i - 1] + f * (s.value[i] - s.value[i - 1]);
-        out.push(Extremum { kind, at: (i - 1) as f64 + f, value, sigma: s.value_sigma[j] });
+        let at_sigma = s.slope_sigma[j] / (d0 - d1).abs();
+        out.push(Extremum { kind, at: (i - 1) as f64 + f, at_sigma, value, sigma: s.value_sigma[j] });
     }
     loop {
         let mut weakest: Option<(usize, f64)> = None;

@@ -25,8 +25,11 @@ pub const FIT_THETA_FLAT: f64 = std::f64::consts::FRAC_PI_2 - 0.005;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
-    /// Frames per shooting segment.
+    /// Frames per shooting segment at first.
     pub segment_frames: usize,
+    /// How many times the segments may be doubled in length after the first fit (each time
+    /// only while the misfit stays as the noise allows).
+    pub merges: usize,
     /// Drag to start from (and to use for the start state).
     pub c_start: [f64; 3],
     /// Run the coarse grid (else start the least squares from `c_start`).
@@ -44,6 +47,7 @@ impl Default for FitOptions {
     fn default() -> Self {
         FitOptions {
             segment_frames: 60,
+            merges: 2,
             c_start: crate::physics::paper::C_RING,
             coarse: true,
             coarse_axes: [Axis { lo: 0.005, hi: 0.5, n: 6, log: true }; 3],
@@ -132,8 +136,11 @@ pub struct FitResult {
     pub rms_px: f64,
     pub residual_count: usize,
     pub parameter_count: usize,
-    /// Frames fitted (from the start to the end).
+    /// Frames in the recording.
     pub frames: usize,
+    /// Frames fitted: from the start to the still end (the still frames show only the pose
+    /// in which the ring landed, which the model's flat limit gives to a frame at best).
+    pub frames_fitted: usize,
     pub noise_px: Option<f64>,
     pub segments: Vec<Range<usize>>,
     pub segment_states: Vec<StateVec>,
@@ -188,14 +195,13 @@ pub fn fit(
     }
     let re_start = Sample::new(&base, 0.0, &y0).reynolds;
     let spec = ModelSpec { base, camera, free, re_start };
-    let shooting = Shooting {
+    let mut shooting = Shooting {
         observed: &rec.frames,
-        segments: split(f0, moving_end, n, opts.segment_frames),
+        segments: split(f0, moving_end, opts.segment_frames),
         dt,
         spec,
         run: RunOptions { tol: opts.tolerances, theta_flat: FIT_THETA_FLAT, ..RunOptions::default() },
         geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
-        rest_from: motion.rest_from,
         length_mm: 1.0 / to_model.length,
     };
     let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
@@ -219,7 +225,9 @@ pub fn fit(
         let t0 = f0 as f64 * dt;
         let t_stop = (n as f64 + 1.0) * dt;
         let total = opts.coarse_axes.iter().map(|a| a.n).product::<usize>() + 125;
-        let (c, score) = coarse::sweep(&shooting.spec.base, &shooting.run, t0, &y0, &features, t_stop, opts.coarse_axes, &|k, _| {
+        // The end time is a feature here: the model ends where a plain run (and `synth`) does.
+        let plain = RunOptions { theta_flat: RunOptions::default().theta_flat, ..shooting.run.clone() };
+        let (c, score) = coarse::sweep(&shooting.spec.base, &plain, t0, &y0, &features, t_stop, opts.coarse_axes, &|k, _| {
             report(FitStage::Sweep, k, total, None)
         });
         check()?;
@@ -240,7 +248,7 @@ pub fn fit(
         let mut starts = Vec::new();
         let (model, _) = shooting.spec.build(&global).ok_or(FitError::BadStart)?;
         let prev = shooting.segments[s - 1].clone();
-        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1, None) {
+        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1) {
             if let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt) {
                 starts.push(last.y);
             }
@@ -256,19 +264,34 @@ pub fn fit(
     // The first segment again, with the coarse drag.
     states[0] = fit_segment(&shooting, 0, &global, &[states[0]], cancel)?.0;
 
-    // Everything together.
+    // Everything together; then segments twice as long, while the data agree.
     let lm_opts = LmOptions { max_iterations: opts.max_iterations, rel_tol: 1e-6, ..LmOptions::default() };
     let locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
     let m_total: usize = (0..count).map(|s| shooting.residual_count(s)).sum();
     let max_it = opts.max_iterations;
-    let sol = lm::solve(
-        &shooting,
-        global,
-        locals,
-        &lm_opts,
-        &mut |k, cost| report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt())),
-        cancel,
-    )?;
+    let mut on_iteration = |k, cost: f64| report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt()));
+    let mut sol = lm::solve(&shooting, global, locals, &lm_opts, &mut on_iteration, cancel)?;
+    let mut iterations = sol.iterations;
+    for _ in 0..opts.merges {
+        if shooting.segments.len() < 2 {
+            break;
+        }
+        let merged: Vec<Range<usize>> = shooting.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        let locals: Vec<Vec<f64>> = sol.local.iter().step_by(2).cloned().collect();
+        let longer = Shooting { segments: merged, ..shooting.clone() };
+        let trial = lm::solve(&longer, sol.global.clone(), locals, &lm_opts, &mut on_iteration, cancel)?;
+        iterations += trial.iterations;
+        // Merging frees 8 numbers per pair: the cost may grow by about that many noise
+        // variances. Much more means the segments no longer follow the data (a model that is
+        // not the ring's, or a start state the least squares could not reach): keep the shorter.
+        let freed = 8.0 * (shooting.segments.len() - longer.segments.len()) as f64;
+        let variance = sol.cost / (sol.residual_count as f64 - (sol.global.len() + 8 * sol.local.len()) as f64).max(1.0);
+        if (trial.cost - sol.cost) / variance > freed + 4.0 * (2.0 * freed).sqrt() {
+            break;
+        }
+        (shooting, sol) = (longer, trial);
+    }
+    let count = shooting.segments.len();
     let values = shooting.spec.to_values(&sol.global);
     let params = sol.global.len() + count * 8;
     let variance = sol.cost / (sol.residual_count.saturating_sub(params)).max(1) as f64;
@@ -297,12 +320,13 @@ pub fn fit(
         rms_px: (sol.cost / sol.residual_count.max(1) as f64).sqrt(),
         residual_count: sol.residual_count,
         parameter_count: params,
-        frames: n - f0,
+        frames: n,
+        frames_fitted: moving_end - f0,
         noise_px: motion.noise_px,
         segments: shooting.segments.clone(),
         segment_states,
         coarse_c,
-        iterations: sol.iterations,
+        iterations,
         model,
         camera,
         units,
@@ -311,24 +335,21 @@ pub fn fit(
     })
 }
 
-/// Segments of `len` frames over `start..moving_end`; a short remainder joins the last
-/// segment, and the last one takes the still frames up to `n` too.
-fn split(start: usize, moving_end: usize, n: usize, len: usize) -> Vec<Range<usize>> {
+/// Segments of `len` frames over `start..end`; a short remainder joins the last segment.
+fn split(start: usize, end: usize, len: usize) -> Vec<Range<usize>> {
     let mut out = Vec::new();
     let mut a = start;
-    while a < moving_end {
-        let b = (a + len).min(moving_end);
+    while a < end {
+        let b = (a + len).min(end);
         out.push(a..b);
         a = b;
     }
     if out.len() > 1 && out.last().is_some_and(|r| r.len() < len / 2) {
-        let last = out.pop().map_or(moving_end, |r| r.end);
-        if let Some(prev) = out.last_mut() {
-            prev.end = last;
+        if let Some(last) = out.pop() {
+            if let Some(prev) = out.last_mut() {
+                prev.end = last.end;
+            }
         }
-    }
-    if let Some(last) = out.last_mut() {
-        last.end = n;
     }
     out
 }

@@ -4,12 +4,7 @@
 //! A segment's prediction: the model run from the segment's start state, sampled at the
 //! frame times; once the run ends (flat), the frames show its final pose, still, as a
 //! recording does and as `synth` writes (frames at or after `floor(t_end / dt)`).
-//!
-//! Where the recording shows the ring come to rest, the prediction stops there too: the
-//! frames from then on show the model's pose at that frame. The model's own end is a
-//! threshold (`theta` reaching the flat limit at one of its maxima) and whether the last
-//! maxima cross it is all or nothing: a prediction that ran on to its own end would jump by a
-//! whole cycle for a tiny change of the parameters, and the least squares could not move.
+
 
 use super::params::ModelSpec;
 use super::lm::BlockProblem;
@@ -35,28 +30,16 @@ pub struct Shooting<'a> {
     pub run: RunOptions,
     /// The marks' circle in model units.
     pub geometry: MarkGeometry,
-    /// First frame of the recording's still end, if it has one.
-    pub rest_from: Option<usize>,
     /// The model's unit of length in mm.
     pub length_mm: f64,
 }
 
 /// The model's samples at the frames `range` from state `y0` at the first of them: one per
-/// frame, the final pose repeated after the run's end, and the pose at frame `freeze` (if
-/// given and reached) repeated from there on. None when the run cannot start.
-pub fn predict_samples(
-    model: &Model,
-    run: &RunOptions,
-    dt: f64,
-    y0: &StateVec,
-    range: Range<usize>,
-    freeze: Option<usize>,
-) -> Option<Vec<Sample>> {
+/// frame, the final pose repeated after the run's end. None when the run cannot start.
+pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> Option<Vec<Sample>> {
     let t0 = range.start as f64 * dt;
     let n = range.len();
-    let freeze = freeze.filter(|f| range.contains(f)).map(|f| f - range.start);
-    let t_end = t0 + freeze.map_or(n as f64, |k| k as f64 + 0.5) * dt;
-    let opts = RunOptions { t_end, sample_dt: Some(dt), track_validity: false, ..run.clone() };
+    let opts = RunOptions { t_end: t0 + n as f64 * dt, sample_dt: Some(dt), track_validity: false, ..run.clone() };
     let sim = Simulation::from_state(model.clone(), t0, *y0, opts).ok()?;
     let mut grid = Vec::with_capacity(n);
     let summary = sim.run(&mut |s| {
@@ -72,14 +55,7 @@ pub fn predict_samples(
         n
     };
     grid.truncate(moving.min(grid.len()));
-    let last = match freeze {
-        Some(k) if k < grid.len() => {
-            grid.truncate(k + 1);
-            grid[k]
-        }
-        _ => summary.final_sample,
-    };
-    grid.resize(n, last);
+    grid.resize(n, summary.final_sample);
     Some(grid)
 }
 
@@ -93,7 +69,7 @@ impl Shooting<'_> {
 
     /// Predicted marks of segment `s` from its start state.
     pub fn predict(&self, model: &Model, camera: &Camera, s: usize, y0: &StateVec) -> Option<PredictedMarks> {
-        let samples = predict_samples(model, &self.run, self.dt, y0, self.segments[s].clone(), self.rest_from)?;
+        let samples = predict_samples(model, &self.run, self.dt, y0, self.segments[s].clone())?;
         Some(samples.iter().map(|x| self.project(camera, x)).collect())
     }
 
