@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod case_args;
 pub mod fit;
+pub mod recover;
 pub mod simulate;
 pub mod sweep;
 pub mod synth;

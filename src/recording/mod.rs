@@ -5,11 +5,12 @@
 //! - [`camera`]: table (mm) to pixels and back (orthographic, top-down, optional radial lens
 //!   distortion); [`marks`]: where the four marks sit for a given pose.
 //! - [`pose`] and [`recover`]: the ring's motion recovered from the marks, frame by frame,
-//!   with uncertainties from the pixel noise.
+//!   with uncertainties from the pixel noise; [`motion_table`] writes it as CSV.
 //! - [`synth`]: recordings made from the model (for tests, the fit's checks and the diagnosis).
 
 pub mod camera;
 pub mod marks;
+pub mod motion_table;
 pub mod pose;
 pub mod read;
 pub mod recover;

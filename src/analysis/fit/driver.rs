@@ -100,7 +100,7 @@ pub enum FitError {
     Model(ParamError),
     #[error("no inner turning point (theta minimum) found to start from")]
     NoStart,
-    #[error("too few frames after the start (frame {start}) to fit: {frames}")]
+    #[error("too few frames after the start (frame {start}) to fit: {frames}, one segment at least")]
     TooFewFrames { start: usize, frames: usize },
     #[error("the start state cannot be reconstructed at frame {0} (marks missing around it?)")]
     NoStartState(usize),
@@ -177,7 +177,7 @@ pub fn fit(
     let f0 = start.at.floor().max(0.0) as usize;
     let n = rec.frames.len();
     let moving_end = motion.rest_from.unwrap_or(n).max(f0);
-    if moving_end - f0 < opts.segment_frames.min(20) {
+    if moving_end - f0 < opts.segment_frames {
         return Err(FitError::TooFewFrames { start: f0, frames: moving_end - f0 });
     }
 
