@@ -30,6 +30,7 @@ use super::{FrameMarks, Recording};
 use crate::physics::model::STATE_LEN;
 use crate::physics::{Body, Conversion, ParamError, TurnKind, Units, paper};
 use std::f64::consts::PI;
+use rayon::prelude::*;
 use thiserror::Error;
 
 /// Half width (frames) of the local quadratic fits for rates and turning points.
@@ -123,7 +124,7 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
     let mark_order = mark_order(&marks_mm);
     let geometry_mm = MarkGeometry { radius: mark_radius(&body_mm), order: mark_order };
     let fits: Vec<Option<PoseFit>> =
-        marks_mm.iter().map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s))).collect();
+        marks_mm.par_iter().map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s))).collect();
     if fits.iter().all(Option::is_none) {
         return Err(RecoverError::NoPose);
     }

@@ -94,20 +94,49 @@ pub fn extrema(s: &Smoothed, k_sigma: f64) -> Vec<Extremum> {
         let at_sigma = s.slope_sigma[j] / (d0 - d1).abs();
         out.push(Extremum { kind, at: (i - 1) as f64 + f, at_sigma, value, sigma: s.value_sigma[j] });
     }
-    loop {
-        let mut weakest: Option<(usize, f64)> = None;
-        for k in 1..out.len() {
-            let (a, b) = (&out[k - 1], &out[k]);
-            let z = (a.value - b.value).abs() / a.sigma.hypot(b.sigma);
-            if z < k_sigma && weakest.is_none_or(|(_, zw)| z < zw) {
-                weakest = Some((k, z));
+    prune(out, k_sigma)
+}
+
+/// Removes neighbouring pairs that differ by less than `k_sigma`, weakest first, in
+/// `O(n log n)`: a linked list of the extrema and a heap of pairs, stale entries skipped.
+fn prune(points: Vec<Extremum>, k_sigma: f64) -> Vec<Extremum> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = points.len();
+    let z = |a: &Extremum, b: &Extremum| (a.value - b.value).abs() / a.sigma.hypot(b.sigma);
+    let mut prev: Vec<Option<usize>> = (0..n).map(|i| i.checked_sub(1)).collect();
+    let mut next: Vec<Option<usize>> = (0..n).map(|i| (i + 1 < n).then_some(i + 1)).collect();
+    let mut alive = vec![true; n];
+    // Keys are z scaled to integers so that the heap orders them; ties are broken by position.
+    let key = |z: f64| (z * 1e9).min(u64::MAX as f64 / 2.0) as u64;
+    let mut heap = BinaryHeap::new();
+    for i in 1..n {
+        let zi = z(&points[i - 1], &points[i]);
+        if zi < k_sigma {
+            heap.push(Reverse((key(zi), i - 1, i)));
+        }
+    }
+    while let Some(Reverse((_, a, b))) = heap.pop() {
+        if !(alive[a] && alive[b] && next[a] == Some(b)) {
+            continue;
+        }
+        alive[a] = false;
+        alive[b] = false;
+        let (p, q) = (prev[a], next[b]);
+        if let Some(p) = p {
+            next[p] = q;
+        }
+        if let Some(q) = q {
+            prev[q] = p;
+        }
+        if let (Some(p), Some(q)) = (p, q) {
+            let zi = z(&points[p], &points[q]);
+            if zi < k_sigma {
+                heap.push(Reverse((key(zi), p, q)));
             }
         }
-        let Some((k, _)) = weakest else { break };
-        // Removing the pair keeps minima and maxima alternating.
-        out.drain(k - 1..=k);
     }
-    out
+    points.into_iter().zip(alive).filter(|(_, keep)| *keep).map(|(p, _)| p).collect()
 }
 
 #[cfg(test)]
