@@ -22,8 +22,8 @@ fn rel(a: f64, b: f64) -> f64 {
 }
 
 fn assert_recovers(r: &FitResult, c: [f64; 3], theta0: f64, phidot0: f64, what: &str) {
-    for i in 0..3 {
-        assert!(rel(r.c[i], c[i]) < 0.10, "{what}: C{} = {} +- {}, truth {}", i + 1, r.c[i], r.c_sigma[i], c[i]);
+    for (i, &c) in c.iter().enumerate() {
+        assert!(rel(r.c[i], c) < 0.10, "{what}: C{} = {} +- {}, truth {c}", i + 1, r.c[i], r.c_sigma[i]);
         assert!(r.c_sigma[i].is_finite() && r.c_sigma[i] > 0.0, "{what}: C{} sigma {}", i + 1, r.c_sigma[i]);
     }
     assert!(rel(r.start.theta, theta0) < 0.02, "{what}: theta0 = {}, truth {theta0}", r.start.theta);

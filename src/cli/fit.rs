@@ -172,12 +172,13 @@ pub fn run(args: &FitArgs) -> Result<()> {
     let started = std::time::Instant::now();
     let shown = Mutex::new(false);
     let progress = |p: &FitProgress| {
-        if let Ok(mut s) = shown.lock() {
-            if !*s && started.elapsed() > Duration::from_millis(300) {
-                bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-                bar.enable_steady_tick(Duration::from_millis(120));
-                *s = true;
-            }
+        if let Ok(mut s) = shown.lock()
+            && !*s
+            && started.elapsed() > Duration::from_millis(300)
+        {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            bar.enable_steady_tick(Duration::from_millis(120));
+            *s = true;
         }
         let msg = match (p.stage, p.rms_px) {
             (FitStage::Refine, Some(rms)) => format!("{} {rms:.3} px", p.stage.describe()),

@@ -113,8 +113,8 @@ fn linearize(m: &FrameMarks, g: &MarkGeometry, x: &Vector5) -> (Matrix5, Vector5
     let s = x[3];
     let r = g.radius;
     let (mut jtj, mut jtr, mut ss, mut n) = (Matrix5::zeros(), Vector5::zeros(), 0.0, 0);
-    for k in 0..MARKS {
-        let Some(o) = m[k] else { continue };
+    for (k, o) in m.iter().enumerate() {
+        let Some(o) = o else { continue };
         n += 1;
         let (sa, ca) = g.angle(k, x[4]).sin_cos();
         // Mark = A + r (cos(a) e1 + sin(a) e3), e1 = (cp, sp), e3 = s (sp, -cp).

@@ -292,11 +292,11 @@ fn resolve_branches(frames: &mut [FrameMotion], body: &Body, fps: f64) {
         if end + 1 >= start + MIN_STRETCH {
             let score = rolling_agreement(&frames[start..=end], body, fps);
             for f in &mut frames[start..=end] {
-                if score < 0.0 {
-                    if let Some(a) = f.angles.as_mut() {
-                        a.phi += PI;
-                        a.psi += PI;
-                    }
+                if score < 0.0
+                    && let Some(a) = f.angles.as_mut()
+                {
+                    a.phi += PI;
+                    a.psi += PI;
                 }
                 f.branch_checked = true;
             }

@@ -101,12 +101,12 @@ impl SynthOptions {
         if !(0.0..1.0).contains(&self.missing_fraction) {
             return Err(SynthError::Option(format!("missing fraction = {} must lie in [0, 1)", self.missing_fraction)));
         }
-        if let Some((EffectKind::CameraDistortion, _)) = self.effect {
-            if self.lens_k1 != 0.0 {
-                return Err(SynthError::Option(
-                    "give the lens distortion either as lens k1 or as the camera_distortion effect, not both".into(),
-                ));
-            }
+        if let Some((EffectKind::CameraDistortion, _)) = self.effect
+            && self.lens_k1 != 0.0
+        {
+            return Err(SynthError::Option(
+                "give the lens distortion either as lens k1 or as the camera_distortion effect, not both".into(),
+            ));
         }
         Ok(())
     }

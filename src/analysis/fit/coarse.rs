@@ -21,11 +21,21 @@ pub struct Features {
 /// Floor on a turning point's sigma: the model's envelope is not exact to the data's noise.
 const THETA_SIGMA_FLOOR: f64 = 0.01;
 
+/// Where the coarse runs start and stop.
+#[derive(Clone, Copy, Debug)]
+pub struct Span {
+    pub t0: f64,
+    pub y0: StateVec,
+    /// Past the recording's end.
+    pub t_stop: f64,
+}
+
 /// Sum of squared normalized differences between the model's features and the data's, for
-/// a run from `y0` at `t0`. Infinite when the run cannot start.
-pub fn feature_misfit(model: &Model, run: &RunOptions, t0: f64, y0: &StateVec, data: &Features, t_stop: f64) -> f64 {
+/// a run over `span`. Infinite when the run cannot start.
+pub fn feature_misfit(model: &Model, run: &RunOptions, span: &Span, data: &Features) -> f64 {
+    let t_stop = span.t_stop;
     let opts = RunOptions { t_end: t_stop, sample_dt: None, track_validity: false, ..run.clone() };
-    let Ok(sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else { return f64::INFINITY };
+    let Ok(sim) = Simulation::from_state(model.clone(), span.t0, span.y0, opts) else { return f64::INFINITY };
     let summary = sim.run(&mut |_| {});
     let ended = summary.end_reason.is_natural();
     let envelope = |kind: TurnKind| -> Vec<(f64, f64)> {
@@ -71,10 +81,8 @@ fn interpolate(points: &[(f64, f64)], t: f64) -> Option<f64> {
 pub fn sweep(
     model: &Model,
     run: &RunOptions,
-    t0: f64,
-    y0: &StateVec,
+    span: &Span,
     data: &Features,
-    t_stop: f64,
     axes: [Axis; 3],
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> ([f64; 3], f64) {
@@ -92,7 +100,7 @@ pub fn sweep(
     let score = |c: [f64; 3]| {
         let mut m = model.clone();
         m.c_drag = c;
-        (c, feature_misfit(&m, run, t0, y0, data, t_stop))
+        (c, feature_misfit(&m, run, span, data))
     };
     let best_of = |rows: Vec<([f64; 3], f64)>| rows.into_iter().fold(([0.0; 3], f64::INFINITY), |b, r| if r.1 < b.1 { r } else { b });
     let first = best_of(grid_map(axes, &score, &|k| progress(k, n1 + 125)));

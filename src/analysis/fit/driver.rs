@@ -188,10 +188,10 @@ pub fn fit(
     let dt = 1.0 / motion.fps * to_model.time;
     let y0 = reconstruct(&motion, f0).ok_or(FitError::NoStartState(f0))?;
     let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
-    if let Some((kind, _)) = opts.effect {
-        if kind != EffectKind::None {
-            free.push(Free::Effect(kind));
-        }
+    if let Some((kind, _)) = opts.effect
+        && kind != EffectKind::None
+    {
+        free.push(Free::Effect(kind));
     }
     let re_start = Sample::new(&base, 0.0, &y0).reynolds;
     let spec = ModelSpec { base, camera, free, re_start };
@@ -207,10 +207,10 @@ pub fn fit(
     let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
     if let Some((EffectKind::CameraDistortion, k1)) = opts.effect {
         global[3] = k1;
-    } else if let Some((_, strength)) = opts.effect {
-        if let Some(g) = global.get_mut(3) {
-            *g = strength;
-        }
+    } else if let Some((_, strength)) = opts.effect
+        && let Some(g) = global.get_mut(3)
+    {
+        *g = strength;
     }
 
     // The start state, refined on the first segment with the starting drag.
@@ -222,12 +222,11 @@ pub fn fit(
     let mut coarse_c = None;
     if opts.coarse {
         let features = features(&motion, f0, moving_end, n, dt);
-        let t0 = f0 as f64 * dt;
-        let t_stop = (n as f64 + 1.0) * dt;
+        let span = coarse::Span { t0: f0 as f64 * dt, y0, t_stop: (n as f64 + 1.0) * dt };
         let total = opts.coarse_axes.iter().map(|a| a.n).product::<usize>() + 125;
         // The end time is a feature here: the model ends where a plain run (and `synth`) does.
         let plain = RunOptions { theta_flat: RunOptions::default().theta_flat, ..shooting.run.clone() };
-        let (c, score) = coarse::sweep(&shooting.spec.base, &plain, t0, &y0, &features, t_stop, opts.coarse_axes, &|k, _| {
+        let (c, score) = coarse::sweep(&shooting.spec.base, &plain, &span, &features, opts.coarse_axes, &|k, _| {
             report(FitStage::Sweep, k, total, None)
         });
         check()?;
@@ -248,10 +247,10 @@ pub fn fit(
         let mut starts = Vec::new();
         let (model, _) = shooting.spec.build(&global).ok_or(FitError::BadStart)?;
         let prev = shooting.segments[s - 1].clone();
-        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1) {
-            if let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt) {
-                starts.push(last.y);
-            }
+        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1)
+            && let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt)
+        {
+            starts.push(last.y);
         }
         if let Some(y) = reconstruct(&motion, shooting.segments[s].start) {
             starts.push(y);
@@ -344,12 +343,12 @@ fn split(start: usize, end: usize, len: usize) -> Vec<Range<usize>> {
         out.push(a..b);
         a = b;
     }
-    if out.len() > 1 && out.last().is_some_and(|r| r.len() < len / 2) {
-        if let Some(last) = out.pop() {
-            if let Some(prev) = out.last_mut() {
-                prev.end = last.end;
-            }
-        }
+    if out.len() > 1
+        && out.last().is_some_and(|r| r.len() < len / 2)
+        && let Some(last) = out.pop()
+        && let Some(prev) = out.last_mut()
+    {
+        prev.end = last.end;
     }
     out
 }

@@ -118,9 +118,15 @@ fn linearize(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>], base: Vec<Vec<f64>
     Some(Linearized { blocks, cost })
 }
 
-/// The damped step `(dg, db_s)` and the inverse of the damped Schur complement, or None
-/// where the damped system is not positive definite.
-fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<(DVector<f64>, Vec<DVector<f64>>, DMatrix<f64>)> {
+/// A damped step and the inverse of the damped Schur complement.
+struct Step {
+    dg: DVector<f64>,
+    db: Vec<DVector<f64>>,
+    schur_inverse: DMatrix<f64>,
+}
+
+/// The damped step, or None where the damped system is not positive definite.
+fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<Step> {
     let damp = |mut n: DMatrix<f64>| {
         let top = (0..n.nrows()).map(|i| n[(i, i)]).fold(0.0, f64::max).max(1e-300);
         for i in 0..n.nrows() {
@@ -163,7 +169,7 @@ fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<(DVector<f64>, Vec<D
             None => DVector::zeros(0),
         })
         .collect();
-    Some((dg, db, schur_inv))
+    Some(Step { dg, db, schur_inverse: schur_inv })
 }
 
 /// Minimizes the sum of squared residuals from `(global, local)`. `on_iteration(k, cost)`
@@ -193,14 +199,14 @@ pub fn solve(
             if cancel.load(Ordering::Relaxed) {
                 return Err(LmError::Cancelled);
             }
-            let Some((dg, db, schur_inv)) = step(&lin, ng, lambda) else {
+            let Some(Step { dg, db, schur_inverse }) = step(&lin, ng, lambda) else {
                 lambda *= 10.0;
                 if lambda > 1e16 {
                     break 'outer;
                 }
                 continue;
             };
-            cov = Some(schur_inv);
+            cov = Some(schur_inverse);
             let g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
             let b_t: Vec<Vec<f64>> = b.iter().zip(&db).map(|(bs, d)| bs.iter().zip(d.iter()).map(|(a, d)| a + d).collect()).collect();
             match evaluate(p, &g_t, &b_t) {
@@ -224,10 +230,10 @@ pub fn solve(
         }
     }
     // The covariance at the solution, undamped.
-    if let Some(lin) = linearize(p, &g, &b, res, cost) {
-        if let Some((_, _, inv)) = step(&lin, ng, 0.0) {
-            cov = Some(inv);
-        }
+    if let Some(lin) = linearize(p, &g, &b, res, cost)
+        && let Some(step) = step(&lin, ng, 0.0)
+    {
+        cov = Some(step.schur_inverse);
     }
     Ok(LmSolution { global: g, local: b, cost, residual_count, iterations, global_cov_unscaled: cov.filter(|c| c.nrows() > 0) })
 }
