@@ -83,7 +83,7 @@ fn recovers_the_sample_motion_within_its_uncertainties() {
     }
 
     // The start state reconstructed from the data alone is close to the truth's.
-    let y = m.state(0, 4).unwrap();
+    let y = m.state(0, 4, false).unwrap();
     let y_true = t.initial.to_state();
     assert!((y[1] - y_true[1]).abs() < 0.02, "theta0 {} vs {}", y[1], y_true[1]);
     assert!((y[5] - y_true[5]).abs() / y_true[5] < 0.05, "w3 {} vs {}", y[5], y_true[5]);

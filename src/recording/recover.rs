@@ -40,7 +40,7 @@ const PHI_SIGMA_TRACKED: f64 = 0.15;
 /// Shortest stretch (frames) whose `(phi, psi)` branch the rolling settles.
 const MIN_STRETCH: usize = 10;
 /// Largest jump of `phi` (rad) between frames of one stretch.
-const PHI_JUMP_MAX: f64 = 0.8;
+const PHI_JUMP_MAX: f64 = 1.2;
 
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum RecoverError {
@@ -72,6 +72,8 @@ pub struct FrameMotion {
     pub angles_sigma: [f64; 3],
     /// Whether the `(phi, psi)` branch was settled by the rolling (else it is a guess).
     pub branch_checked: bool,
+    /// The stretch of frames along which `phi` and `psi` are continuous (None: not followed).
+    pub stretch: Option<usize>,
     /// Velocity of A on the table.
     pub v_mm_s: Option<[f64; 2]>,
     pub v_p_mm_s: Option<f64>,
@@ -147,6 +149,7 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
                 angles: fit.map(|f| Angles { phi: f.pose.phi, theta: f.pose.theta, psi: f.pose.psi }),
                 angles_sigma,
                 branch_checked: false,
+                stretch: None,
                 v_mm_s: None,
                 v_p_mm_s: None,
                 v_p_sigma_mm_s: f64::INFINITY,
@@ -261,6 +264,7 @@ fn wrap(x: f64) -> f64 {
 /// whose rolling agrees with the measured velocity of A.
 fn resolve_branches(frames: &mut [FrameMotion], body: &Body, fps: f64) {
     let mut start = 0;
+    let mut stretches = 0;
     while start < frames.len() {
         // Grow a stretch from `start`.
         let mut end = start;
@@ -288,6 +292,12 @@ fn resolve_branches(frames: &mut [FrameMotion], body: &Body, fps: f64) {
                 frames[end + 1].angles = Some(q);
                 end += 1;
             }
+        }
+        if frames[start].angles.is_some() && frames[start].angles_sigma[0] < PHI_SIGMA_TRACKED {
+            for f in &mut frames[start..=end] {
+                f.stretch = Some(stretches);
+            }
+            stretches += 1;
         }
         if end + 1 >= start + MIN_STRETCH {
             let score = rolling_agreement(&frames[start..=end], body, fps);
@@ -403,6 +413,7 @@ impl RecoveredMotion {
     /// angles over `+-half` frames of the same stretch, with their sigmas.
     pub fn rates(&self, i: usize, half: usize) -> Option<([f64; 3], [f64; 3])> {
         let n = self.frames.len();
+        let stretch = self.frames.get(i)?.stretch?;
         let lo = i.saturating_sub(half);
         let hi = (i + half).min(n.checked_sub(1)?);
         let mut rates = [0.0; 3];
@@ -411,7 +422,7 @@ impl RecoveredMotion {
             let (mut y, mut w) = (vec![f64::NAN; n], vec![0.0; n]);
             for j in lo..=hi {
                 let f = &self.frames[j];
-                if let (Some(a), true) = (f.angles, f.branch_checked) {
+                if let (Some(a), true) = (f.angles, f.stretch == Some(stretch)) {
                     y[j] = [a.theta, a.phi, a.psi][k];
                     let s = f.angles_sigma[[1, 0, 2][k]];
                     w[j] = if s.is_finite() && s > 0.0 { 1.0 / (s * s) } else { 0.0 };
@@ -424,12 +435,43 @@ impl RecoveredMotion {
         Some((rates, sigmas))
     }
 
-    /// The model's state `[phi, theta, psi, w1, w2, w3, x_C, y_C]` at frame `i` in model
-    /// units, with the angles' rates from [`RecoveredMotion::rates`]. None where the pose or
-    /// its rates are not known.
-    pub fn state(&self, i: usize, half: usize) -> Option<[f64; STATE_LEN]> {
+    /// The state at frame `i` as the paper reads it at an inner turning point: `theta' = 0`,
+    /// `psi' = 0`, and `phi'` from the velocity of A, which rolling then makes
+    /// `(R sin(theta) - h cos(theta)) phi'` along `e1` (`flipped` as in
+    /// [`RecoveredMotion::state`]). None without a pose or a velocity, or where that lever is
+    /// too short to divide by (`tan(theta)` near `h/R`).
+    pub fn turning_point_state(&self, i: usize, flipped: bool) -> Option<[f64; STATE_LEN]> {
         let f = self.frames.get(i)?;
-        let (a, p) = (f.angles?, f.a_mm?);
+        let (mut a, p, v) = (f.angles?, f.a_mm?, f.v_mm_s?);
+        if flipped {
+            a.phi += PI;
+            a.psi += PI;
+        }
+        let b = &self.body_mm;
+        let (st, ct) = a.theta.sin_cos();
+        let lever = b.r * st - b.h * ct;
+        if lever.abs() < 0.05 * b.r {
+            return None;
+        }
+        let (sp, cp) = a.phi.sin_cos();
+        let k = self.to_model();
+        let phi_dot = (v[0] * cp + v[1] * sp) / lever * k.rate();
+        let half_h = 0.5 * b.h;
+        let c = [p[0] + half_h * ct * sp, p[1] - half_h * ct * cp];
+        Some([a.phi, a.theta, a.psi, 0.0, phi_dot * st, phi_dot * ct, c[0] * k.length, c[1] * k.length])
+    }
+
+    /// The model's state `[phi, theta, psi, w1, w2, w3, x_C, y_C]` at frame `i` in model
+    /// units, with the angles' rates from [`RecoveredMotion::rates`]; `flipped` takes the
+    /// other branch `(phi + pi, psi + pi)`, the same marks. None where the pose or its rates
+    /// are not known.
+    pub fn state(&self, i: usize, half: usize, flipped: bool) -> Option<[f64; STATE_LEN]> {
+        let f = self.frames.get(i)?;
+        let (mut a, p) = (f.angles?, f.a_mm?);
+        if flipped {
+            a.phi += PI;
+            a.psi += PI;
+        }
         let (rates, _) = self.rates(i, half)?;
         let k = self.to_model();
         let (st, ct) = a.theta.sin_cos();

@@ -98,8 +98,6 @@ pub enum FitError {
     Options(String),
     #[error("the model cannot be built: {0}")]
     Model(ParamError),
-    #[error("no inner turning point (theta minimum) found to start from")]
-    NoStart,
     #[error("too few frames after the start (frame {start}) to fit: {frames}, one segment at least")]
     TooFewFrames { start: usize, frames: usize },
     #[error("the start state cannot be reconstructed at frame {0} (marks missing around it?)")]
@@ -173,8 +171,12 @@ pub fn fit(
     let camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
     let motion = recover_with(rec, camera)?;
     check()?;
-    let start = motion.first_inner_turn.ok_or(FitError::NoStart)?;
-    let f0 = start.at.floor().max(0.0) as usize;
+    // The first frame when theta rises from it, else the first minimum; the model places the
+    // turning point exactly (`start_at_turning_point`).
+    let f0 = match motion.turning_points.first() {
+        Some(p) if p.kind == TurnKind::ThetaMin => p.at.floor().max(0.0) as usize,
+        _ => 0,
+    };
     let n = rec.frames.len();
     let moving_end = motion.rest_from.unwrap_or(n).max(f0);
     if moving_end - f0 < opts.segment_frames {
@@ -186,7 +188,12 @@ pub fn fit(
     let body = motion.body_model().map_err(FitError::Model)?;
     let base = Model::new(body, units.g(), opts.c_start, units.nu_air()).map_err(FitError::Model)?;
     let dt = 1.0 / motion.fps * to_model.time;
-    let y0 = reconstruct(&motion, f0).ok_or(FitError::NoStartState(f0))?;
+    let mut starts = reconstruct(&motion, f0);
+    // The start is a turning point: the same states with theta' = 0, and the paper's reading.
+    let level: Vec<StateVec> = starts.iter().map(level_start).collect();
+    starts.extend(level);
+    starts.extend([false, true].iter().filter_map(|&f| motion.turning_point_state(f0, f)));
+    let y0 = *starts.first().ok_or(FitError::NoStartState(f0))?;
     let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
     if let Some((kind, _)) = opts.effect
         && kind != EffectKind::None
@@ -213,9 +220,19 @@ pub fn fit(
         *g = strength;
     }
 
-    // The start state, refined on the first segment with the starting drag.
+    // The start state, refined with the starting drag over a growing window: a quarter of
+    // the first segment, half, all of it (the rates from the poses are rough, and over a short
+    // window a rough start still lies in the right valley).
     report(FitStage::StartState, 0, 1, None);
-    let y0 = fit_segment(&shooting, 0, &global, &[y0], cancel)?.0;
+    let first = shooting.segments[0].clone();
+    let mut y0 = starts[0];
+    let mut candidates = starts;
+    for part in [4, 2, 1] {
+        let end = first.start + (first.len() / part).max(12).min(first.len());
+        let window = Shooting { segments: [first.start..end].to_vec(), ..shooting.clone() };
+        y0 = fit_segment(&window, 0, &global, &candidates, cancel)?.0;
+        candidates = vec![y0];
+    }
     check()?;
 
     // Coarse grid on phase-free features.
@@ -232,36 +249,23 @@ pub fn fit(
         check()?;
         if score.is_finite() {
             coarse_c = Some(c);
-            for i in 0..3 {
-                global[i] = c[i].ln();
-            }
         }
     }
 
-    // Each segment's state in turn.
-    let count = shooting.segments.len();
-    let mut states: Vec<StateVec> = Vec::with_capacity(count);
-    states.push(y0);
-    for s in 1..count {
-        report(FitStage::Segments, s, count, None);
-        let mut starts = Vec::new();
-        let (model, _) = shooting.spec.build(&global).ok_or(FitError::BadStart)?;
-        let prev = shooting.segments[s - 1].clone();
-        if let Some(samples) = predict_samples(&model, &shooting.run, dt, &states[s - 1], prev.start..prev.end + 1)
-            && let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * dt)
-        {
-            starts.push(last.y);
+    // Each segment's state in turn, with the coarse drag and with the starting drag: the
+    // features can mislead (turning points a slow camera blurs), the misfit decides.
+    let mut best: Option<(f64, Vec<f64>, Vec<StateVec>)> = None;
+    let drags = coarse_c.into_iter().map(|c| c.map(f64::ln).to_vec()).chain([global[..3].to_vec()]);
+    for drag in drags {
+        let mut g = global.clone();
+        g[..3].copy_from_slice(&drag);
+        let (cost, states) = init_segments(&shooting, &motion, &g, y0, &report, cancel)?;
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, g, states));
         }
-        if let Some(y) = reconstruct(&motion, shooting.segments[s].start) {
-            starts.push(y);
-        }
-        if starts.is_empty() {
-            starts.push(states[s - 1]);
-        }
-        states.push(fit_segment(&shooting, s, &global, &starts, cancel)?.0);
     }
-    // The first segment again, with the coarse drag.
-    states[0] = fit_segment(&shooting, 0, &global, &[states[0]], cancel)?.0;
+    let (_, global, states) = best.ok_or(FitError::BadStart)?;
+    let count = shooting.segments.len();
 
     // Everything together; then segments twice as long, while the data agree.
     let lm_opts = LmOptions { max_iterations: opts.max_iterations, rel_tol: 1e-6, ..LmOptions::default() };
@@ -304,7 +308,8 @@ pub fn fit(
     };
     let segment_states: Vec<StateVec> = sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
     let (model, camera) = shooting.spec.build(&sol.global).ok_or(FitError::BadStart)?;
-    let (start, start_t) = start_at_turning_point(&model, &shooting.run, dt, f0, &segment_states[0]);
+    let window = shooting.segments[0].len();
+    let (start, start_t) = start_at_turning_point(&model, &shooting.run, dt, f0, window, &segment_states[0]);
     let effect = match shooting.spec.free.get(3) {
         Some(Free::Effect(kind)) => Some((*kind, values[3], sigma(3))),
         _ => None,
@@ -334,6 +339,40 @@ pub fn fit(
     })
 }
 
+/// Every segment's start state with the globals fixed, each from the previous segment's end
+/// or the recovered poses, whichever fits better; and the total cost.
+fn init_segments(
+    sh: &Shooting,
+    motion: &RecoveredMotion,
+    global: &[f64],
+    y0: StateVec,
+    report: &dyn Fn(FitStage, usize, usize, Option<f64>),
+    cancel: &AtomicBool,
+) -> Result<(f64, Vec<StateVec>), FitError> {
+    let count = sh.segments.len();
+    let (model, _) = sh.spec.build(global).ok_or(FitError::BadStart)?;
+    let (y0, mut total) = fit_segment(sh, 0, global, &[y0], cancel)?;
+    let mut states = vec![y0];
+    for s in 1..count {
+        report(FitStage::Segments, s, count, None);
+        let mut starts = Vec::new();
+        let prev = sh.segments[s - 1].clone();
+        if let Some(samples) = predict_samples(&model, &sh.run, sh.dt, &states[s - 1], prev.start..prev.end + 1)
+            && let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * sh.dt)
+        {
+            starts.push(last.y);
+        }
+        starts.extend(reconstruct(motion, sh.segments[s].start));
+        if starts.is_empty() {
+            starts.push(states[s - 1]);
+        }
+        let (y, cost) = fit_segment(sh, s, global, &starts, cancel)?;
+        states.push(y);
+        total += cost;
+    }
+    Ok((total, states))
+}
+
 /// Segments of `len` frames over `start..end`; a short remainder joins the last segment.
 fn split(start: usize, end: usize, len: usize) -> Vec<Range<usize>> {
     let mut out = Vec::new();
@@ -353,9 +392,13 @@ fn split(start: usize, end: usize, len: usize) -> Vec<Range<usize>> {
     out
 }
 
-/// The state at frame `i` from the recovered poses, trying the frames nearby.
-fn reconstruct(motion: &RecoveredMotion, i: usize) -> Option<StateVec> {
-    (0..4).flat_map(|d| [i + d, i.saturating_sub(d)]).find_map(|j| motion.state(j, 4))
+/// The state at frame `i` from the recovered poses (or the nearest frame that has one), on
+/// both branches `(phi, psi)` and `(phi + pi, psi + pi)` and with rates over +-2 and +-4
+/// frames (the shorter for slow cameras): the fit keeps the one that fits best.
+fn reconstruct(motion: &RecoveredMotion, i: usize) -> Vec<StateVec> {
+    let j = (0..4).flat_map(|d| [i + d, i.saturating_sub(d)]).find(|&j| motion.state(j, 4, false).is_some());
+    let Some(j) = j else { return Vec::new() };
+    [(4, false), (4, true), (2, false), (2, true)].iter().filter_map(|&(half, f)| motion.state(j, half, f)).collect()
 }
 
 /// Fits segment `s`'s start state from the best of `starts` with the globals fixed.
@@ -374,6 +417,13 @@ fn fit_segment(sh: &Shooting, s: usize, global: &[f64], starts: &[StateVec], can
     }
 }
 
+/// A state with `theta' = 0` and the same `phi'` and `psi'` (w2 and w3 do not hold theta').
+fn level_start(y: &StateVec) -> StateVec {
+    let mut y = *y;
+    y[ix::W1] = 0.0;
+    y
+}
+
 /// The data's features for the coarse stage, in model time.
 fn features(motion: &RecoveredMotion, f0: usize, moving_end: usize, n: usize, dt: f64) -> Features {
     let turning_points = motion
@@ -388,8 +438,8 @@ fn features(motion: &RecoveredMotion, f0: usize, moving_end: usize, n: usize, dt
 
 /// The model's state at the first inner turning point: at frame `f0` when `theta`'s minimum
 /// lies within half a frame before it (the start is the turning point to the frame), else the
-/// first minimum the model passes in the first segment.
-fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, y0: &StateVec) -> (Initial, f64) {
+/// first minimum the model passes in the next `window` frames.
+fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, window: usize, y0: &StateVec) -> (Initial, f64) {
     let t0 = f0 as f64 * dt;
     let w = Vector3::new(y0[ix::W1], y0[ix::W2], y0[ix::W3]);
     let theta_ddot = model.dynamics(y0[ix::THETA], &w).omega_dot.x;
@@ -397,7 +447,7 @@ fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, y
     if (-0.5 * dt..=0.0).contains(&vertex) {
         return (Initial::from_state(y0), t0);
     }
-    let opts = RunOptions { t_end: t0 + 40.0 * dt, sample_dt: None, track_validity: false, ..run.clone() };
+    let opts = RunOptions { t_end: t0 + window as f64 * dt, sample_dt: None, track_validity: false, ..run.clone() };
     if let Ok(sim) = crate::physics::Simulation::from_state(model.clone(), t0, *y0, opts) {
         let summary = sim.run(&mut |_| {});
         if let Some(p) = summary.turning_points.iter().find(|p| p.kind == TurnKind::ThetaMin) {
