@@ -229,7 +229,7 @@ pub fn fit(
     let mut candidates = starts;
     for part in [4, 2, 1] {
         let end = first.start + (first.len() / part).max(12).min(first.len());
-        let window = Shooting { segments: [first.start..end].to_vec(), ..shooting.clone() };
+        let window = Shooting { segments: std::iter::once(first.start..end).collect(), ..shooting.clone() };
         y0 = fit_segment(&window, 0, &global, &candidates, cancel)?.0;
         candidates = vec![y0];
     }
