@@ -55,6 +55,16 @@ fn fits_the_sample_recording() {
     assert!((r.start.psi_dot - truth["psidot0"].as_f64().unwrap()).abs() < 0.02);
     assert_eq!(r.frames, 1884);
     assert!(r.start_frame.abs() < 0.5, "the sample starts at its first inner turning point");
+    // The fitted model, run on from the start, follows the recorded point A for a while.
+    let (_, samples) = r.model_run().unwrap();
+    let motion = ringlab::recording::recover(&rec).unwrap();
+    let (l, k) = (r.units.length_mm, rec.header.px_per_mm);
+    let ss: f64 = samples.iter().take(150).zip(&motion.frames).map(|(s, f)| {
+        let a = f.a_mm.unwrap();
+        (s.x_a * l - a[0]).powi(2) + (s.y_a * l - a[1]).powi(2)
+    }).sum();
+    let rms_px = (ss / 150.0).sqrt() * k;
+    assert!(rms_px < 1.0, "the model's A is {rms_px} px rms from the data's over 150 frames");
     assert_eq!(
         *stages.lock().unwrap(),
         vec![FitStage::Recover, FitStage::StartState, FitStage::Sweep, FitStage::Segments, FitStage::Refine]

@@ -8,7 +8,8 @@ use crate::analysis::sweep::Axis;
 use crate::physics::effects::EffectKind;
 use crate::physics::integrator::Tolerances;
 use crate::physics::model::ix;
-use crate::physics::{Initial, Model, ParamError, RunOptions, Sample, StateVec, TurnKind, Units};
+use crate::physics::run::RunError;
+use crate::physics::{Initial, Model, ParamError, RunOptions, RunSummary, Sample, Simulation, StateVec, TurnKind, Units};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::recover::{RecoverError, RecoveredMotion, recover_with};
 use crate::recording::{Camera, Recording};
@@ -153,6 +154,19 @@ pub struct FitResult {
     pub compute_seconds: f64,
 }
 
+impl FitResult {
+    /// The fitted model run from the fitted start to its end, sampled at the recording's
+    /// frames (`t = start_t + k dt`): the model's path to show beside the recording's (same
+    /// table coordinates, model units; the recording's are in mm).
+    pub fn model_run(&self) -> Result<(RunSummary, Vec<Sample>), RunError> {
+        let opts = RunOptions { sample_dt: Some(self.dt), ..RunOptions::default() };
+        let sim = Simulation::from_state(self.model.clone(), self.start_t, self.start.to_state(), opts)?;
+        let mut samples = Vec::new();
+        let summary = sim.run(&mut |s| samples.push(*s));
+        Ok((summary, samples))
+    }
+}
+
 /// Fits the model to a recording. `progress` is called from worker threads; `cancel` stops
 /// the fit at the next evaluation with [`FitError::Cancelled`].
 pub fn fit(
@@ -212,11 +226,7 @@ pub fn fit(
         length_mm: 1.0 / to_model.length,
     };
     let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
-    if let Some((EffectKind::CameraDistortion, k1)) = opts.effect {
-        global[3] = k1;
-    } else if let Some((_, strength)) = opts.effect
-        && let Some(g) = global.get_mut(3)
-    {
+    if let (Some((_, strength)), Some(g)) = (opts.effect, global.get_mut(3)) {
         *g = strength;
     }
 
@@ -448,7 +458,7 @@ fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, w
         return (Initial::from_state(y0), t0);
     }
     let opts = RunOptions { t_end: t0 + window as f64 * dt, sample_dt: None, track_validity: false, ..run.clone() };
-    if let Ok(sim) = crate::physics::Simulation::from_state(model.clone(), t0, *y0, opts) {
+    if let Ok(sim) = Simulation::from_state(model.clone(), t0, *y0, opts) {
         let summary = sim.run(&mut |_| {});
         if let Some(p) = summary.turning_points.iter().find(|p| p.kind == TurnKind::ThetaMin) {
             return (Initial::from_state(&p.sample.y), p.sample.t);
