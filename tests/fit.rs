@@ -119,6 +119,16 @@ fn cancelling_stops_the_fit_and_bad_input_is_an_error() {
     assert!(matches!(fit(&short, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)), Err(FitError::TooFewFrames { .. })));
     let opts = FitOptions { segment_frames: 3, ..FitOptions::default() };
     assert!(matches!(fit(&rec, &opts, &|_| {}, &AtomicBool::new(false)), Err(FitError::Options(_))));
+    // Marks thrown at random: an answer or an error, never a panic.
+    let mut rng = ringlab::recording::rng::Rng::new(3);
+    let mut noise = rec.clone();
+    noise.frames.truncate(300);
+    for f in &mut noise.frames {
+        for m in f.iter_mut() {
+            *m = Some([rng.uniform() * 1280.0, rng.uniform() * 1024.0]);
+        }
+    }
+    let _ = fit(&noise, &FitOptions::default(), &|_| {}, &AtomicBool::new(false));
     // A recording whose marks never form a pose.
     let mut blind = rec.clone();
     for f in &mut blind.frames {

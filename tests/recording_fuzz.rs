@@ -1,10 +1,10 @@
-//! Property test of the reader: random and mutated files never make it panic, and whatever
-//! it accepts is a sound recording. `RINGLAB_FUZZ_CASES` sets the number of inputs (default
+//! Property test of the reader: random and mutated files never make it panic, whatever it
+//! accepts is a sound recording, and the motion recovery takes it without a panic. `RINGLAB_FUZZ_CASES` sets the number of inputs (default
 //! 40,000: random bytes, random lines, and mutations of the sample's head and of whole files).
 
 mod common;
 
-use ringlab::recording::{is_usable, parse_recording};
+use ringlab::recording::{is_usable, parse_recording, recover};
 use ringlab::recording::rng::Rng;
 use std::path::Path;
 
@@ -88,9 +88,11 @@ fn random_lines(rng: &mut Rng) -> Vec<u8> {
     s.into_bytes()
 }
 
-/// What an accepted file must satisfy.
+/// What an accepted file must satisfy; its motion is then recovered (or refused) without a
+/// panic either.
 fn check_sound(bytes: &[u8]) {
     let Ok(rec) = parse_recording(bytes, Path::new("fuzz.csv")) else { return };
+    let _ = recover(&rec);
     let h = &rec.header;
     assert!(h.fps > 0.0 && h.px_per_mm > 0.0 && h.outer_radius_mm > 0.0 && h.width_mm > 0.0);
     assert!(rec.frames.iter().filter(|f| is_usable(f)).count() >= 2);

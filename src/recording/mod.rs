@@ -5,8 +5,14 @@
 //! - [`camera`]: table (mm) to pixels and back (orthographic, top-down, optional radial lens
 //!   distortion); [`marks`]: where the four marks sit for a given pose.
 //! - [`pose`] and [`recover`]: the ring's motion recovered from the marks, frame by frame,
-//!   with uncertainties from the pixel noise; [`motion_table`] writes it as CSV.
-//! - [`synth`]: recordings made from the model (for tests, the fit's checks and the diagnosis).
+//!   with uncertainties from the pixel noise ([`smooth`]: local fits and turning points);
+//!   [`motion_table`] writes it as CSV.
+//! - [`synth`]: recordings made from the model (for tests, the fit's checks and the diagnosis),
+//!   with its own seeded noise ([`rng`]).
+//!
+//! For a window: [`read_recording`] on the UI thread (errors are values to show), then
+//! [`recover`] for the path, pose and `v_p`, and `analysis::fit::fit` on a worker thread with
+//! its progress callback and cancel flag.
 
 pub mod camera;
 pub mod marks;
