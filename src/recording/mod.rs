@@ -1,17 +1,17 @@
 //! Recordings: video-tracked marks on a ring's top edge (`RECORDING_FORMAT.md`, format v1).
 //!
 //! - [`read`]: the reader, every problem the format names as a typed [`ReadError`] with file
-//!   and line; [`write`]: the writer.
+//!   and line; [`mod@write`]: the writer.
 //! - [`camera`]: table (mm) to pixels and back (orthographic, top-down, optional radial lens
 //!   distortion); [`marks`]: where the four marks sit for a given pose.
-//! - [`pose`] and [`recover`]: the ring's motion recovered from the marks, frame by frame,
+//! - [`pose`] and [`mod@recover`]: the ring's motion recovered from the marks, frame by frame,
 //!   with uncertainties from the pixel noise ([`smooth`]: local fits and turning points);
 //!   [`motion_table`] writes it as CSV.
 //! - [`synth`]: recordings made from the model (for tests, the fit's checks and the diagnosis),
 //!   with its own seeded noise ([`rng`]).
 //!
 //! For a window: [`read_recording`] on the UI thread (errors are values to show), then
-//! [`recover`] for the path, pose and `v_p`, and `analysis::fit::fit` on a worker thread with
+//! [`fn@recover`] for the path, pose and `v_p`, and `analysis::fit::fit` on a worker thread with
 //! its progress callback and cancel flag.
 
 pub mod camera;
