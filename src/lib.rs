@@ -7,4 +7,5 @@
 pub mod analysis;
 pub mod config;
 pub mod physics;
+pub mod recording;
 pub mod report;

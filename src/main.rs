@@ -18,6 +18,12 @@ enum Command {
     Simulate(cli::simulate::SimulateArgs),
     /// Run a grid of drag coefficients and classify each run
     Sweep(cli::sweep::SweepArgs),
+    /// Make a recording (format v1) from the model: marks, camera, noise, effects
+    Synth(cli::synth::SynthArgs),
+    /// Recover the motion from a recording: A, theta, psi, heading, v_p, turning points
+    Recover(cli::recover::RecoverArgs),
+    /// Fit the model (drag C1..C3 and the start state) to a recording
+    Fit(cli::fit::FitArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
     /// List the presets
@@ -31,6 +37,9 @@ fn main() -> Result<()> {
     match cli.command {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
+        Some(Command::Synth(a)) => cli::synth::run(&a),
+        Some(Command::Recover(a)) => cli::recover::run(&a),
+        Some(Command::Fit(a)) => cli::fit::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
         Some(Command::Effects) => {
             use ringlab::physics::EffectKind;

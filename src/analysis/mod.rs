@@ -1,3 +1,5 @@
-//! Analysis on top of the physics: the drag sweep (and, later, fitting and diagnosis).
+//! Analysis on top of the physics: the drag sweep, the fit of the model to a recording (and,
+//! later, the diagnosis).
 
+pub mod fit;
 pub mod sweep;

@@ -62,14 +62,8 @@ pub struct SweepRow {
     pub steps: u64,
 }
 
-/// Runs every grid point; `progress` is called with the number of runs done so far.
-pub fn run_sweep(
-    model: &Model,
-    initial: &Initial,
-    opts: &RunOptions,
-    axes: [Axis; 3],
-    progress: &(dyn Fn(usize) + Sync),
-) -> Vec<SweepRow> {
+/// The grid points of three axes, `C1` slowest.
+pub fn grid(axes: [Axis; 3]) -> Vec<[f64; 3]> {
     let [a1, a2, a3] = axes.map(|a| a.values());
     let mut grid = Vec::with_capacity(a1.len() * a2.len() * a3.len());
     for &c1 in &a1 {
@@ -79,15 +73,37 @@ pub fn run_sweep(
             }
         }
     }
-    let opts = RunOptions { sample_dt: None, track_validity: false, ..opts.clone() };
+    grid
+}
+
+/// Evaluates `f` at every grid point in parallel (rayon), in grid order; `progress` is called
+/// with the number of points done so far. The machinery of the sweep, shared with the fit.
+pub fn grid_map<T: Send>(
+    axes: [Axis; 3],
+    f: &(dyn Fn([f64; 3]) -> T + Sync),
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<T> {
     let done = AtomicUsize::new(0);
-    grid.par_iter()
+    grid(axes)
+        .par_iter()
         .map(|&c| {
-            let row = classify(model, initial, &opts, c);
+            let out = f(c);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-            row
+            out
         })
         .collect()
+}
+
+/// Runs every grid point; `progress` is called with the number of runs done so far.
+pub fn run_sweep(
+    model: &Model,
+    initial: &Initial,
+    opts: &RunOptions,
+    axes: [Axis; 3],
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<SweepRow> {
+    let opts = RunOptions { sample_dt: None, track_validity: false, ..opts.clone() };
+    grid_map(axes, &|c| classify(model, initial, &opts, c), progress)
 }
 
 /// One run with drag `c`, classified.

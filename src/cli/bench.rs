@@ -33,6 +33,15 @@ pub struct BenchArgs {
     /// Print the figures as JSON
     #[arg(long)]
     pub json: bool,
+    /// Measure the recording side instead: reader (100,000 frames), recovery, fit of a recording
+    #[arg(long)]
+    pub recording: bool,
+    /// The recording to fit with --recording
+    #[arg(long, value_name = "FILE.csv", default_value = "../shared/data/sample-ring.csv")]
+    pub sample: std::path::PathBuf,
+    /// With --recording: leave out the fit
+    #[arg(long)]
+    pub skip_fit: bool,
 }
 
 #[derive(Serialize, Debug)]
@@ -80,6 +89,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.recording {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
+        return pool.install(|| super::bench_recording::run(&args.sample, args.repeats.min(7), args.skip_fit, args.json));
+    }
     let case = args.case.case()?;
     let model = case.model.clone();
     let y0 = case.initial.to_state();

@@ -1,7 +1,11 @@
 //! The command-line commands (the binary's side: anyhow errors, printing, files).
 
 pub mod bench;
+pub mod bench_recording;
 pub mod case_args;
 pub mod effect_args;
+pub mod fit;
+pub mod recover;
 pub mod simulate;
 pub mod sweep;
+pub mod synth;

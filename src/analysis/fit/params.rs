@@ -1,0 +1,121 @@
+//! The fit's free global parameters and the model and camera they make.
+//!
+//! The drag coefficients are fitted as `ln C_i` (they are positive and span decades; a step
+//! in `ln C` is a relative change). An effect's strength (`physics::effects`) is fitted as
+//! it is, so that it can start at, and come out as, zero; `camera_distortion` sets the
+//! camera's `k1`, every other effect the physics.
+
+use crate::physics::effects::{self, EffectKind};
+use crate::physics::Model;
+use crate::recording::Camera;
+
+/// One free global parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Free {
+    /// Drag coefficient `C_{i+1}`.
+    Drag(usize),
+    /// The strength of an effect.
+    Effect(EffectKind),
+}
+
+impl Free {
+    pub fn name(&self) -> String {
+        match self {
+            Free::Drag(i) => format!("C{}", i + 1),
+            Free::Effect(k) => format!("{k} strength"),
+        }
+    }
+}
+
+/// The base model and camera and which of their parameters are free.
+#[derive(Clone, Debug)]
+pub struct ModelSpec {
+    /// Body, gravity, air, and the starting drag coefficients (model units).
+    pub base: Model,
+    pub camera: Camera,
+    pub free: Vec<Free>,
+    /// Reynolds number at the start (the reference of `reynolds_drag`).
+    pub re_start: f64,
+}
+
+impl ModelSpec {
+    /// Internal coordinates of parameter values.
+    pub fn to_internal(&self, values: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .zip(values)
+            .map(|(f, v)| match f {
+                Free::Drag(_) => v.max(1e-12).ln(),
+                Free::Effect(_) => *v,
+            })
+            .collect()
+    }
+
+    /// Parameter values of internal coordinates.
+    pub fn to_values(&self, internal: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .zip(internal)
+            .map(|(f, x)| match f {
+                Free::Drag(_) => x.exp(),
+                Free::Effect(_) => *x,
+            })
+            .collect()
+    }
+
+    /// Derivative of a value by its internal coordinate (for the uncertainties).
+    pub fn value_per_internal(&self, internal: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .zip(internal)
+            .map(|(f, x)| match f {
+                Free::Drag(_) => x.exp(),
+                Free::Effect(_) => 1.0,
+            })
+            .collect()
+    }
+
+    /// The values of the free parameters in the base model and camera.
+    pub fn initial_values(&self) -> Vec<f64> {
+        self.free
+            .iter()
+            .map(|f| match f {
+                Free::Drag(i) => self.base.c_drag[*i],
+                Free::Effect(EffectKind::CameraDistortion) => self.camera.k1,
+                Free::Effect(_) => 0.0,
+            })
+            .collect()
+    }
+
+    /// Model and camera at internal coordinates; None outside their domain.
+    pub fn build(&self, internal: &[f64]) -> Option<(Model, Camera)> {
+        let mut model = self.base.clone();
+        let mut camera = self.camera;
+        for (f, v) in self.free.iter().zip(self.to_values(internal)) {
+            if !v.is_finite() {
+                return None;
+            }
+            match f {
+                Free::Drag(i) => model.c_drag[*i] = v,
+                Free::Effect(EffectKind::CameraDistortion) => {
+                    if v.abs() > 0.5 {
+                        return None;
+                    }
+                    camera.k1 = v;
+                }
+                Free::Effect(kind) => {
+                    effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects).ok()?;
+                }
+            }
+        }
+        Some((model, camera))
+    }
+
+    /// Forward-difference step in internal coordinates.
+    pub fn step(&self, i: usize, x: f64) -> f64 {
+        match self.free[i] {
+            Free::Drag(_) => 1e-6,
+            Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
+        }
+    }
+}

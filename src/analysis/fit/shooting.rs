@@ -1,0 +1,155 @@
+//! Multiple shooting: the recording cut into segments, each predicted by the model from its
+//! own start state; the misfit is the pixel residual of every tracked mark.
+//!
+//! A segment's prediction: the model run from the segment's start state, sampled at the
+//! frame times; once the run ends (flat), the frames show its final pose, still, as a
+//! recording does and as `synth` writes (frames at or after `floor(t_end / dt)`).
+
+
+use super::params::ModelSpec;
+use super::lm::BlockProblem;
+use crate::physics::model::STATE_LEN;
+use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
+use crate::recording::marks::MarkGeometry;
+use crate::recording::{Camera, FrameMarks, MARKS};
+use std::ops::Range;
+
+/// The predicted pixel positions of the marks, frame by frame.
+pub type PredictedMarks = Vec<[[f64; 2]; MARKS]>;
+
+/// Everything a prediction needs besides the parameters.
+#[derive(Clone, Debug)]
+pub struct Shooting<'a> {
+    /// Observed marks (pixels), every frame of the recording.
+    pub observed: &'a [FrameMarks],
+    pub segments: Vec<Range<usize>>,
+    /// Model time per frame; frame `i` is at `t = i dt`.
+    pub dt: f64,
+    pub spec: ModelSpec,
+    /// Integration settings (tolerances, the flat limit).
+    pub run: RunOptions,
+    /// The marks' circle in model units.
+    pub geometry: MarkGeometry,
+    /// The model's unit of length in mm.
+    pub length_mm: f64,
+}
+
+/// The model's samples at the frames `range` from state `y0` at the first of them: one per
+/// frame, the final pose repeated after the run's end. None when the run cannot start.
+pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> Option<Vec<Sample>> {
+    let t0 = range.start as f64 * dt;
+    let n = range.len();
+    let opts = RunOptions { t_end: t0 + n as f64 * dt, sample_dt: Some(dt), track_validity: false, ..run.clone() };
+    let sim = Simulation::from_state(model.clone(), t0, *y0, opts).ok()?;
+    let mut grid = Vec::with_capacity(n);
+    let summary = sim.run(&mut |s| {
+        if grid.len() < n {
+            grid.push(*s);
+        }
+    });
+    // After a natural end, frames at or after floor(t_end / dt) show the end state; after a
+    // failure, every frame past the last good sample does.
+    let moving = if summary.end_reason.is_natural() {
+        ((summary.t_end / dt).floor() as usize).saturating_sub(range.start)
+    } else {
+        n
+    };
+    grid.truncate(moving.min(grid.len()));
+    grid.resize(n, summary.final_sample);
+    Some(grid)
+}
+
+impl Shooting<'_> {
+    /// The marks' pixel positions for a sample.
+    #[inline]
+    pub fn project(&self, camera: &Camera, s: &Sample) -> [[f64; 2]; MARKS] {
+        let m = self.geometry.marks([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
+        m.map(|p| camera.to_px(p[0] * self.length_mm, p[1] * self.length_mm))
+    }
+
+    /// Predicted marks of segment `s` from its start state.
+    pub fn predict(&self, model: &Model, camera: &Camera, s: usize, y0: &StateVec) -> Option<PredictedMarks> {
+        let samples = predict_samples(model, &self.run, self.dt, y0, self.segments[s].clone())?;
+        Some(samples.iter().map(|x| self.project(camera, x)).collect())
+    }
+
+    /// Model minus observed for every tracked mark of segment `s` (x, then y).
+    pub fn residuals_of(&self, s: usize, predicted: &PredictedMarks) -> Vec<f64> {
+        let mut out = Vec::new();
+        for (obs, pred) in self.observed[self.segments[s].clone()].iter().zip(predicted) {
+            for (o, p) in obs.iter().zip(pred) {
+                if let Some(o) = o {
+                    out.push(p[0] - o[0]);
+                    out.push(p[1] - o[1]);
+                }
+            }
+        }
+        out
+    }
+
+    /// Residuals of segment `s`, or None where the parameters are invalid or the state
+    /// is not finite.
+    pub fn segment_residuals(&self, s: usize, global: &[f64], state: &[f64]) -> Option<Vec<f64>> {
+        let (model, camera) = self.spec.build(global)?;
+        let y0: StateVec = state.try_into().ok()?;
+        if y0.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let pred = self.predict(&model, &camera, s, &y0)?;
+        Some(self.residuals_of(s, &pred))
+    }
+
+    /// Number of tracked mark coordinates in segment `s`.
+    pub fn residual_count(&self, s: usize) -> usize {
+        2 * self.observed[self.segments[s].clone()].iter().map(|f| f.iter().flatten().count()).sum::<usize>()
+    }
+}
+
+impl BlockProblem for Shooting<'_> {
+    fn global_count(&self) -> usize {
+        self.spec.free.len()
+    }
+    fn block_count(&self) -> usize {
+        self.segments.len()
+    }
+    fn block_size(&self) -> usize {
+        STATE_LEN
+    }
+    fn residuals(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<f64>> {
+        self.segment_residuals(s, global, local)
+    }
+    fn global_step(&self, i: usize, value: f64) -> f64 {
+        self.spec.step(i, value)
+    }
+    fn local_step(&self, _: usize, value: f64) -> f64 {
+        1e-6 * value.abs().max(1.0)
+    }
+}
+
+/// One segment's start state with the globals held fixed: the per-segment fit.
+pub struct OneSegment<'a, 'b> {
+    pub shooting: &'b Shooting<'a>,
+    pub segment: usize,
+    pub global: Vec<f64>,
+}
+
+impl BlockProblem for OneSegment<'_, '_> {
+    fn global_count(&self) -> usize {
+        STATE_LEN
+    }
+    fn block_count(&self) -> usize {
+        1
+    }
+    fn block_size(&self) -> usize {
+        0
+    }
+    fn residuals(&self, _: usize, state: &[f64], _: &[f64]) -> Option<Vec<f64>> {
+        self.shooting.segment_residuals(self.segment, &self.global, state)
+    }
+    fn global_step(&self, _: usize, value: f64) -> f64 {
+        1e-6 * value.abs().max(1.0)
+    }
+    fn local_step(&self, _: usize, _: f64) -> f64 {
+        0.0
+    }
+}

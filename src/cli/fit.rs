@@ -1,0 +1,234 @@
+//! `ringlab fit`: the model fitted to a recording (drag and start state).
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use ringlab::analysis::fit::{FitOptions, FitProgress, FitResult, FitStage, fit};
+use ringlab::physics::EffectKind;
+use ringlab::recording::read_recording;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+#[derive(Args, Debug)]
+pub struct FitArgs {
+    /// The recording (format v1)
+    #[arg(value_name = "FILE.csv")]
+    pub file: PathBuf,
+    /// Print the result as one JSON object
+    #[arg(long)]
+    pub json: bool,
+    /// Frames per shooting segment at first (doubled while the data allow, see --merges)
+    #[arg(long, default_value_t = 60)]
+    pub segment_frames: usize,
+    /// How many times the segments may be doubled in length
+    #[arg(long, default_value_t = 2)]
+    pub merges: usize,
+    /// Leave out the coarse drag grid (start the least squares from --c-start)
+    #[arg(long)]
+    pub no_coarse: bool,
+    /// Drag to start from, as C1,C2,C3
+    #[arg(long, value_name = "C1,C2,C3", default_value = "0.03,0.063,0.085")]
+    pub c_start: String,
+    /// Fit an effect's strength too (see `ringlab synth --help` for the names)
+    #[arg(long, value_name = "NAME")]
+    pub effect: Option<String>,
+    /// Starting strength of --effect
+    #[arg(long, value_name = "X", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub effect_start: f64,
+    /// The camera's radial distortion k1, when known
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub lens_k1: f64,
+    /// Threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// The JSON object of `ringlab fit --json`.
+#[derive(Serialize, Debug)]
+struct FitReport {
+    c: [f64; 3],
+    c_sigma: [Option<f64>; 3],
+    theta0: f64,
+    phidot0: f64,
+    psidot0: f64,
+    thetadot0: f64,
+    phi0: f64,
+    rms_px: f64,
+    frames: usize,
+    compute_seconds: f64,
+    frames_fitted: usize,
+    noise_px: Option<f64>,
+    start_frame: f64,
+    start_time_s: f64,
+    time_unit_s: f64,
+    length_unit_mm: f64,
+    segments: usize,
+    segment_frames: usize,
+    iterations: usize,
+    residuals: usize,
+    parameters: usize,
+    coarse_c: Option<[f64; 3]>,
+    effect: Option<EffectReport>,
+}
+
+#[derive(Serialize, Debug)]
+struct EffectReport {
+    name: &'static str,
+    strength: f64,
+    sigma: Option<f64>,
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+fn wrap_angle(x: f64) -> f64 {
+    let w = x.rem_euclid(std::f64::consts::TAU);
+    if w > std::f64::consts::PI { w - std::f64::consts::TAU } else { w }
+}
+
+impl FitReport {
+    fn new(r: &FitResult) -> FitReport {
+        FitReport {
+            c: r.c,
+            c_sigma: r.c_sigma.map(finite),
+            theta0: r.start.theta,
+            phidot0: r.start.phi_dot,
+            psidot0: r.start.psi_dot,
+            thetadot0: r.start.theta_dot,
+            phi0: wrap_angle(r.start.phi),
+            rms_px: r.rms_px,
+            frames: r.frames,
+            compute_seconds: r.compute_seconds,
+            frames_fitted: r.frames_fitted,
+            noise_px: r.noise_px,
+            start_frame: r.start_frame,
+            start_time_s: r.start_t * r.units.time_s,
+            time_unit_s: r.units.time_s,
+            length_unit_mm: r.units.length_mm,
+            segments: r.segments.len(),
+            segment_frames: r.segments.first().map_or(0, |s| s.len()),
+            iterations: r.iterations,
+            residuals: r.residual_count,
+            parameters: r.parameter_count,
+            coarse_c: r.coarse_c,
+            effect: r.effect.map(|(k, s, sd)| EffectReport { name: k.name(), strength: s, sigma: finite(sd) }),
+        }
+    }
+}
+
+fn parse_c(s: &str) -> Result<[f64; 3]> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != 3 {
+        bail!("--c-start '{s}': expected C1,C2,C3");
+    }
+    let mut c = [0.0; 3];
+    for (slot, p) in c.iter_mut().zip(parts) {
+        let v: f64 = p.trim().parse().with_context(|| format!("--c-start '{s}': '{p}' is not a number"))?;
+        if !(v.is_finite() && v > 0.0) {
+            bail!("--c-start '{s}': every coefficient must be a positive number");
+        }
+        *slot = v;
+    }
+    Ok(c)
+}
+
+pub fn run(args: &FitArgs) -> Result<()> {
+    let c_start = parse_c(&args.c_start)?;
+    let effect = match &args.effect {
+        None => None,
+        Some(name) => {
+            let kind = EffectKind::from_name(name).with_context(|| {
+                let names: Vec<&str> = EffectKind::ALL.iter().map(|k| k.name()).collect();
+                format!("--effect '{name}' is not one of {}", names.join(", "))
+            })?;
+            (kind != EffectKind::None).then_some((kind, args.effect_start))
+        }
+    };
+    if !args.lens_k1.is_finite() {
+        bail!("--lens-k1 = {}: must be a finite number", args.lens_k1);
+    }
+    let rec = read_recording(&args.file)?;
+    let opts = FitOptions {
+        segment_frames: args.segment_frames,
+        merges: args.merges,
+        c_start,
+        coarse: !args.no_coarse,
+        effect,
+        lens_k1: args.lens_k1,
+        ..FitOptions::default()
+    };
+
+    // The bar appears only on a terminal and only once the fit has run for a moment.
+    let bar = ProgressBar::hidden();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg:<22} [{bar:30}] {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let started = std::time::Instant::now();
+    let shown = Mutex::new(false);
+    let progress = |p: &FitProgress| {
+        if let Ok(mut s) = shown.lock()
+            && !*s
+            && started.elapsed() > Duration::from_millis(300)
+        {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            bar.enable_steady_tick(Duration::from_millis(120));
+            *s = true;
+        }
+        let msg = match (p.stage, p.rms_px) {
+            (FitStage::Refine, Some(rms)) => format!("{} {rms:.3} px", p.stage.describe()),
+            (stage, _) => stage.describe().to_string(),
+        };
+        bar.set_message(msg);
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+    };
+    let cancel = AtomicBool::new(false);
+    let result = match args.threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build()?;
+            pool.install(|| fit(&rec, &opts, &progress, &cancel))
+        }
+        None => fit(&rec, &opts, &progress, &cancel),
+    };
+    bar.finish_and_clear();
+    let r = result.with_context(|| format!("fitting {}", args.file.display()))?;
+    let report = FitReport::new(&r);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    let pm = |x: f64, s: f64| if s.is_finite() { format!("{x:.5} +- {s:.5}") } else { format!("{x:.5} (unconstrained)") };
+    println!(
+        "{}: {} frames, {} fitted from the first inner turning point at frame {:.2} ({:.4} s)",
+        args.file.display(),
+        r.frames,
+        r.frames_fitted,
+        r.start_frame,
+        report.start_time_s
+    );
+    println!("drag  C1 = {}, C2 = {}, C3 = {}", pm(r.c[0], r.c_sigma[0]), pm(r.c[1], r.c_sigma[1]), pm(r.c[2], r.c_sigma[2]));
+    if let Some((k, s, sd)) = r.effect {
+        println!("effect {k} = {}  ({})", pm(s, sd), k.parameter());
+    }
+    println!(
+        "start (first inner turning point, model units: length {:.4} mm, time {:.6} s): theta0 = {:.5}, phidot0 = {:.5}, psidot0 = {:.5}, thetadot0 = {:.2e}, phi0 = {:.4}",
+        r.units.length_mm, r.units.time_s, r.start.theta, r.start.phi_dot, r.start.psi_dot, r.start.theta_dot, report.phi0
+    );
+    println!(
+        "misfit {:.4} px rms over {} mark coordinates ({} segments of {} frames, {} parameters); pixel noise in the data {}",
+        r.rms_px,
+        r.residual_count,
+        r.segments.len(),
+        r.segments.first().map_or(0, |s| s.len()),
+        r.parameter_count,
+        r.noise_px.map_or("unknown".into(), |n| format!("{n:.3} px"))
+    );
+    println!("{} iterations, {:.2} s", r.iterations, r.compute_seconds);
+    Ok(())
+}

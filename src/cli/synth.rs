@@ -1,0 +1,122 @@
+//! `ringlab synth`: a recording (format v1) made from the model.
+
+use super::case_args::CaseArgs;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use ringlab::physics::EffectKind;
+use ringlab::recording::marks::MarkOrder;
+use ringlab::recording::synth::{SynthOptions, synthesize};
+use ringlab::recording::write_recording;
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct SynthArgs {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Gaussian noise on each pixel coordinate (px)
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    pub noise_px: f64,
+    /// Frame rate (frames per second)
+    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true)]
+    pub fps: f64,
+    /// Scale at the table (px per mm); default the paper's 135.6 px = 40.3 mm
+    #[arg(long, default_value_t = 3.364764, allow_negative_numbers = true)]
+    pub px_per_mm: f64,
+    /// Radial lens distortion k1 (relative to the image half-diagonal; negative: barrel)
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub lens_k1: f64,
+    /// An effect beyond the baseline model: none, reynolds_drag, rolling_friction,
+    /// pivot_friction, slip, translational_drag, camera_distortion
+    #[arg(long, value_name = "NAME")]
+    pub effect: Option<String>,
+    /// Strength of --effect (see `physics::effects` for each effect's meaning)
+    #[arg(long, value_name = "X", allow_negative_numbers = true, requires = "effect")]
+    pub effect_strength: Option<f64>,
+    /// Seed of the pixel noise
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Frames of the ring lying still after the motion ends
+    #[arg(long, default_value_t = 60)]
+    pub rest_frames: usize,
+    /// Image size in pixels as WIDTHxHEIGHT (the table's origin is at its centre)
+    #[arg(long, default_value = "1280x1024", value_name = "WxH")]
+    pub image: String,
+    /// Probability that a mark is not tracked in a frame
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub drop_marks: f64,
+    /// Number the marks counter-clockwise seen from above (the sample runs clockwise)
+    #[arg(long)]
+    pub reverse_marks: bool,
+    /// Output file (format v1); '-' for standard output
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: PathBuf,
+}
+
+fn parse_image(s: &str) -> Result<(f64, f64)> {
+    let (w, h) = s.split_once(['x', 'X']).with_context(|| format!("--image '{s}': expected WIDTHxHEIGHT, e.g. 1280x1024"))?;
+    let w: f64 = w.trim().parse().with_context(|| format!("--image '{s}': width is not a number"))?;
+    let h: f64 = h.trim().parse().with_context(|| format!("--image '{s}': height is not a number"))?;
+    Ok((w, h))
+}
+
+pub fn run(args: &SynthArgs) -> Result<()> {
+    let case = args.case.case()?;
+    let effect = match (&args.effect, args.effect_strength) {
+        (None, _) => None,
+        (Some(name), strength) => {
+            let kind = EffectKind::from_name(name).with_context(|| {
+                let names: Vec<&str> = EffectKind::ALL.iter().map(|k| k.name()).collect();
+                format!("--effect '{name}' is not one of {}", names.join(", "))
+            })?;
+            match (kind, strength) {
+                (EffectKind::None, _) => None,
+                (_, None) => bail!("--effect {name} needs --effect-strength X ({})", kind.parameter()),
+                (_, Some(x)) => Some((kind, x)),
+            }
+        }
+    };
+    let (image_width_px, image_height_px) = parse_image(&args.image)?;
+    let opts = SynthOptions {
+        fps: args.fps,
+        px_per_mm: args.px_per_mm,
+        noise_px: args.noise_px,
+        lens_k1: args.lens_k1,
+        effect,
+        seed: args.seed,
+        rest_frames: args.rest_frames,
+        image_width_px,
+        image_height_px,
+        mark_order: if args.reverse_marks { MarkOrder::Reverse } else { MarkOrder::Forward },
+        missing_fraction: args.drop_marks,
+    };
+    let synth = synthesize(&case, &opts).with_context(|| format!("synthesizing a recording of case '{}'", case.name))?;
+    let rec = &synth.recording;
+    if args.out.as_os_str() == "-" {
+        let stdout = std::io::stdout();
+        let mut w = BufWriter::new(stdout.lock());
+        write_recording(&mut w, rec).context("writing the recording to standard output")?;
+        w.flush()?;
+    } else {
+        let file = std::fs::File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+        let mut w = BufWriter::new(file);
+        write_recording(&mut w, rec).with_context(|| format!("writing {}", args.out.display()))?;
+        w.flush().with_context(|| format!("writing {}", args.out.display()))?;
+    }
+    let moving = synth.samples.len() - if synth.summary.end_reason.is_natural() { args.rest_frames } else { 0 };
+    eprintln!(
+        "{}: {} frames at {} fps ({} moving, then {}); run ended {} at t = {:.4} ({:.3} s); noise {} px{}{}",
+        args.out.display(),
+        rec.frames.len(),
+        args.fps,
+        moving,
+        if synth.summary.end_reason.is_natural() { format!("{} at rest", args.rest_frames) } else { "none at rest".into() },
+        synth.summary.end_reason,
+        synth.summary.t_end,
+        synth.summary.t_end * synth.time_s,
+        args.noise_px,
+        effect.map(|(k, x)| format!("; effect {k} = {x}")).unwrap_or_default(),
+        if synth.camera.k1 != 0.0 { format!("; lens k1 = {}", synth.camera.k1) } else { String::new() },
+    );
+    Ok(())
+}

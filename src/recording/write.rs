@@ -1,0 +1,43 @@
+//! The writer of format v1 (the inverse of [`super::read`]).
+
+use super::read::{COLUMNS, MAGIC};
+use super::Recording;
+use std::io::{self, Write};
+
+/// Decimals written for pixel coordinates (a hundredth of a pixel, as in the sample).
+pub const PIXEL_DECIMALS: usize = 2;
+
+/// Writes a recording; header numbers are written so that they read back exactly.
+pub fn write_recording(out: &mut impl Write, rec: &Recording) -> io::Result<()> {
+    let h = &rec.header;
+    writeln!(out, "{MAGIC}")?;
+    writeln!(out, "# fps = {:?}", h.fps)?;
+    writeln!(out, "# px_per_mm = {:?}", h.px_per_mm)?;
+    writeln!(out, "# shape = {}", h.shape.name())?;
+    writeln!(out, "# outer_radius_mm = {:?}", h.outer_radius_mm)?;
+    writeln!(out, "# width_mm = {:?}", h.width_mm)?;
+    if let Some(w) = h.thickness_mm {
+        writeln!(out, "# thickness_mm = {w:?}")?;
+    }
+    if let Some(w) = h.image_width_px {
+        writeln!(out, "# image_width_px = {w}")?;
+    }
+    if let Some(v) = h.image_height_px {
+        writeln!(out, "# image_height_px = {v}")?;
+    }
+    for (k, v) in &h.extra {
+        writeln!(out, "# {k} = {v}")?;
+    }
+    writeln!(out, "{}", COLUMNS.join(","))?;
+    for (i, marks) in rec.frames.iter().enumerate() {
+        write!(out, "{}", rec.frame_number(i))?;
+        for m in marks {
+            match m {
+                Some([x, y]) => write!(out, ",{x:.PIXEL_DECIMALS$},{y:.PIXEL_DECIMALS$}")?,
+                None => write!(out, ",,")?,
+            }
+        }
+        writeln!(out)?;
+    }
+    Ok(())
+}
