@@ -20,6 +20,8 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
+    /// Draw a picture without a window (the 3D scene, the trace panel or the whole app)
+    Render(cli::render::RenderArgs),
     /// List the presets
     Presets,
 }
@@ -30,6 +32,7 @@ fn main() -> Result<()> {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
+        Some(Command::Render(a)) => cli::render::run(&a),
         Some(Command::Presets) => {
             for name in ringlab::config::preset_names() {
                 let f = ringlab::config::load_preset(name)?;
@@ -37,8 +40,6 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
-        None => {
-            anyhow::bail!("the window is not built yet; use a subcommand (ringlab --help)")
-        }
+        None => ringlab::ui::run_window().map_err(|e| anyhow::anyhow!("cannot open the window: {e}")),
     }
 }

@@ -2,5 +2,6 @@
 
 pub mod bench;
 pub mod case_args;
+pub mod render;
 pub mod simulate;
 pub mod sweep;

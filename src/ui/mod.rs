@@ -1,0 +1,565 @@
+//! The window: egui panels around the 3D view (functions that draw egui end in `_ui`). The app
+//! holds one run, or two side by side on one clock, each fed by an integrator thread
+//! ([`crate::sim`]) or, for tests and headless pictures, computed at once.
+
+pub mod controls;
+pub mod palette;
+pub mod plots;
+pub mod scene;
+pub mod teach;
+pub mod trace_panel;
+pub mod view3d;
+
+use crate::config::{BUILTIN_PRESETS, Case, CaseFile, load_preset};
+use crate::render::OrbitCamera;
+use crate::sim::{Player, SimHandle, Track};
+use controls::{Change, UnitLabels};
+use eframe::egui::{self, RichText};
+use palette::BODY_LINEAR;
+use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
+
+/// The key of the settings in eframe's storage.
+pub const SETTINGS_KEY: &str = "ringlab-settings";
+
+/// What persists between sessions.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct Settings {
+    /// The preset the case was taken from (its values set the sliders' ranges).
+    pub preset: String,
+    pub case: CaseFile,
+    pub compare_preset: String,
+    pub compare_case: CaseFile,
+    /// Two runs side by side.
+    pub compare: bool,
+    /// Which of the two the sliders edit.
+    pub edit_second: bool,
+    pub speed: f64,
+    pub follow: bool,
+    pub show_contact: bool,
+    pub show_why: bool,
+    /// A change of drag or friction continues from the current state instead of restarting.
+    pub continue_on_change: bool,
+}
+
+/// A compiled-in preset (they are part of the binary and checked by the tests).
+fn builtin(name: &str) -> CaseFile {
+    let text = BUILTIN_PRESETS.iter().find(|p| p.0 == name).map(|p| p.1).unwrap_or(BUILTIN_PRESETS[0].1);
+    CaseFile::parse(text, std::path::Path::new(name)).expect("compiled-in presets parse")
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            preset: "paper-ring".into(),
+            case: builtin("paper-ring"),
+            compare_preset: "paper-disk-drag".into(),
+            compare_case: builtin("paper-disk-drag"),
+            compare: false,
+            edit_second: false,
+            speed: 1.0,
+            follow: true,
+            show_contact: true,
+            show_why: false,
+            continue_on_change: false,
+        }
+    }
+}
+
+/// Live (threads, wall clock) or fixed at one time (computed at once, paused: tests, PNGs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mode {
+    Live,
+    Fixed { seconds: f64 },
+}
+
+enum Source {
+    Live(SimHandle),
+    Fixed(Track),
+}
+
+struct Run {
+    source: Source,
+}
+
+impl Run {
+    fn new(case: Case, live: bool) -> Run {
+        if live {
+            if let Ok(h) = SimHandle::spawn(case.clone()) {
+                return Run { source: Source::Live(h) };
+            }
+            // No thread to be had: compute in place instead.
+        }
+        Run { source: Source::Fixed(Track::compute(case)) }
+    }
+
+    fn track(&self) -> &Track {
+        match &self.source {
+            Source::Live(h) => &h.track,
+            Source::Fixed(t) => t,
+        }
+    }
+
+    fn restart(&mut self, case: Case) {
+        match &mut self.source {
+            Source::Live(h) => h.restart(case),
+            Source::Fixed(t) => *t = Track::compute(case),
+        }
+    }
+
+    fn continue_from(&mut self, case: Case, t: f64) {
+        match &mut self.source {
+            Source::Live(h) => h.continue_from(case, t),
+            Source::Fixed(tr) => *tr = Track::compute(case),
+        }
+    }
+
+    fn run_id(&self) -> u64 {
+        match &self.source {
+            Source::Live(h) => h.run(),
+            Source::Fixed(t) => t.run(),
+        }
+    }
+
+    fn time_s(&self) -> f64 {
+        self.track().case().units.time_s
+    }
+}
+
+pub struct RinglabApp {
+    pub settings: Settings,
+    runs: Vec<Run>,
+    pub player: Player,
+    camera: OrbitCamera,
+    live: bool,
+    last_tick: Option<Instant>,
+    error: Option<String>,
+    /// A restart waiting for its first state on screen: when it was asked for, and the runs.
+    restart_pending: Option<(Instant, Vec<u64>)>,
+    /// The first frame showing a restarted run was built at this time (latency ends when the
+    /// next frame starts, i.e. after it was painted).
+    restart_shown: Option<Instant>,
+    /// Time from the last parameter change to the first frame that showed its run.
+    pub last_restart_latency: Option<Duration>,
+    style_set: bool,
+}
+
+impl RinglabApp {
+    pub fn new(settings: Settings, mode: Mode) -> RinglabApp {
+        let live = mode == Mode::Live;
+        let mut app = RinglabApp {
+            settings,
+            runs: Vec::new(),
+            player: Player::default(),
+            camera: OrbitCamera::default_for(1.0),
+            live,
+            last_tick: None,
+            error: None,
+            restart_pending: None,
+            restart_shown: None,
+            last_restart_latency: None,
+            style_set: false,
+        };
+        app.player.set_speed(app.settings.speed);
+        app.rebuild_runs();
+        if let Mode::Fixed { seconds } = mode {
+            app.player.pause();
+            app.player.seek(seconds);
+        }
+        app
+    }
+
+    /// The cases of the run(s), or what is wrong with the parameters.
+    fn cases(&self) -> Result<Vec<Case>, String> {
+        let mut files = vec![(&self.settings.case, "left")];
+        if self.settings.compare {
+            files.push((&self.settings.compare_case, "right"));
+        }
+        files.iter().map(|(f, side)| f.build().map_err(|e| if self.settings.compare { format!("{side}: {e}") } else { e })).collect()
+    }
+
+    /// Starts the run(s) afresh (new threads), the clock at zero.
+    fn rebuild_runs(&mut self) {
+        let cases = match self.cases() {
+            Ok(c) => c,
+            Err(e) => {
+                // Stored settings that no longer build: back to the defaults.
+                self.error = Some(format!("{e} (the parameters were reset)"));
+                self.settings = Settings { speed: self.settings.speed, ..Settings::default() };
+                self.cases().unwrap_or_default()
+            }
+        };
+        let scale = cases.first().map(|c| c.model.body.r as f32).unwrap_or(1.0);
+        self.camera = OrbitCamera::default_for(scale);
+        self.runs = cases.into_iter().map(|c| Run::new(c, self.live)).collect();
+        self.player.reset();
+        self.note_restart();
+    }
+
+    fn note_restart(&mut self) {
+        self.restart_pending = Some((Instant::now(), self.runs.iter().map(|r| r.run_id()).collect()));
+        self.restart_shown = None;
+    }
+
+    /// Applies a change of the parameters: a restart from the initial state, or with
+    /// `continue_on_change` and a change of drag alone, a continuation from now.
+    pub fn apply_change(&mut self, change: Change) {
+        if change == Change::None {
+            return;
+        }
+        let cases = match self.cases() {
+            Ok(c) => c,
+            Err(e) => {
+                self.error = Some(e);
+                return;
+            }
+        };
+        self.error = None;
+        if cases.len() != self.runs.len() {
+            self.rebuild_runs();
+            return;
+        }
+        let keep = change == Change::Drag && self.settings.continue_on_change;
+        let seconds = self.player.seconds();
+        for (run, case) in self.runs.iter_mut().zip(cases) {
+            if keep {
+                let t = seconds / run.time_s();
+                run.continue_from(case, t);
+            } else {
+                run.restart(case);
+            }
+        }
+        if !keep {
+            self.player.seek(0.0);
+        }
+        self.note_restart();
+    }
+
+    /// Every run back to its start.
+    pub fn reset(&mut self) {
+        if let Ok(cases) = self.cases() {
+            for (run, case) in self.runs.iter_mut().zip(cases) {
+                run.restart(case);
+            }
+        }
+        self.player.reset();
+        self.note_restart();
+    }
+
+    /// Loads a preset into the left (or, `second`, the right) case.
+    pub fn load_preset(&mut self, name: &str, second: bool) {
+        match load_preset(name) {
+            Ok(f) => {
+                if second {
+                    self.settings.compare_preset = name.into();
+                    self.settings.compare_case = f;
+                } else {
+                    self.settings.preset = name.into();
+                    self.settings.case = f;
+                }
+                self.error = None;
+                self.rebuild_runs();
+            }
+            Err(e) => self.error = Some(e.to_string()),
+        }
+    }
+
+    /// The paper's ring and its disk-like drag side by side.
+    pub fn ring_vs_disk(&mut self) {
+        self.settings.compare = true;
+        self.settings.preset = "paper-ring".into();
+        self.settings.case = builtin("paper-ring");
+        self.settings.compare_preset = "paper-disk-drag".into();
+        self.settings.compare_case = builtin("paper-disk-drag");
+        self.rebuild_runs();
+    }
+
+    pub fn set_compare(&mut self, on: bool) {
+        if self.settings.compare != on {
+            self.settings.compare = on;
+            self.settings.edit_second &= on;
+            self.rebuild_runs();
+        }
+    }
+
+    /// The tracks shown (one, or two side by side).
+    pub fn tracks(&self) -> Vec<&Track> {
+        self.runs.iter().map(|r| r.track()).collect()
+    }
+
+    /// The display time of run `i` in its own units.
+    fn run_time(&self, i: usize) -> f64 {
+        self.player.seconds() / self.runs[i].time_s()
+    }
+
+    /// When the motion ends (seconds), once every run has ended.
+    fn end_seconds(&self) -> Option<f64> {
+        let mut end: f64 = 0.0;
+        for r in &self.runs {
+            let t = r.track();
+            if t.failed().is_some() {
+                continue;
+            }
+            end = end.max(t.end()?.t_end * r.time_s());
+        }
+        Some(end)
+    }
+
+    /// How far the scrubber reaches (seconds): the end, or what has arrived so far.
+    fn known_seconds(&self) -> f64 {
+        self.runs.iter().map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s()).fold(0.0, f64::max)
+    }
+
+    /// Advances the clock by the wall time since the last frame and takes in the states the
+    /// display needs. Never waits for the integrator.
+    pub fn tick(&mut self, now: Instant) {
+        // The previous frame showed the restarted run; it has been painted by now.
+        if self.restart_shown.take().is_some() {
+            if let Some((asked, _)) = self.restart_pending.take() {
+                self.last_restart_latency = Some(now.duration_since(asked));
+            }
+        }
+        let wall = self.last_tick.map_or(0.0, |t| now.duration_since(t).as_secs_f64().min(0.1));
+        self.last_tick = Some(now);
+        self.player.set_speed(self.settings.speed);
+        let next = self.player.seconds() + if self.player.is_playing() { wall * self.player.speed() } else { 0.0 };
+        let mut available = f64::INFINITY;
+        for r in &mut self.runs {
+            let ts = r.time_s();
+            if let Source::Live(h) = &mut r.source {
+                let dt = h.track.case().dt;
+                h.pump(next / ts + 2.0 * dt);
+            }
+            let t = r.track();
+            if !t.is_finished() {
+                available = available.min(t.last_time().unwrap_or(0.0) * ts);
+            }
+        }
+        let end = self.end_seconds();
+        self.player.advance(wall, available, end);
+        if let Some((_, ids)) = &self.restart_pending {
+            let arrived = self.runs.iter().zip(ids).all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
+            if arrived && self.restart_shown.is_none() {
+                self.restart_shown = Some(now);
+            }
+        }
+    }
+
+    /// Whether anything still moves (the window keeps repainting while so).
+    pub fn is_animating(&self) -> bool {
+        self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
+    }
+
+    fn keys(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let (space, r) = ctx.input(|i| (i.key_pressed(egui::Key::Space), i.key_pressed(egui::Key::R)));
+        if space {
+            self.player.toggle();
+        }
+        if r {
+            self.reset();
+        }
+    }
+
+    /// The whole window, one frame.
+    pub fn ui_root(&mut self, ui: &mut egui::Ui) {
+        if !self.style_set {
+            ui.ctx().set_theme(egui::Theme::Light);
+            self.style_set = true;
+        }
+        if self.live {
+            self.tick(Instant::now());
+        }
+        self.keys(ui.ctx());
+
+        egui::Panel::top("top").show(ui, |ui| self.top_bar_ui(ui));
+        egui::Panel::left("parameters").default_size(300.0).resizable(false).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| self.parameters_panel_ui(ui));
+        });
+        egui::Panel::bottom("plots").exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
+        egui::Panel::right("traces").default_size(if self.settings.compare { 520.0 } else { 340.0 }).resizable(false).show(ui, |ui| {
+            self.traces_panel_ui(ui)
+        });
+        egui::CentralPanel::default().show(ui, |ui| self.view_panel_ui(ui));
+
+        if self.is_animating() {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    fn top_bar_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label(RichText::new("ringlab").strong().size(16.0));
+            ui.separator();
+            if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
+                self.ring_vs_disk();
+            }
+            let mut compare = self.settings.compare;
+            if ui.checkbox(&mut compare, "side by side").changed() {
+                self.set_compare(compare);
+            }
+            ui.separator();
+            let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+            let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
+            let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
+            let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
+            if act.reset {
+                self.reset();
+            }
+            if act.step {
+                let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
+                self.player.step(dt, self.end_seconds());
+            }
+            if let Some(s) = act.seek {
+                self.player.seek(s);
+            }
+            self.settings.speed = self.player.speed();
+        });
+    }
+
+    fn parameters_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let second = self.settings.compare && self.settings.edit_second;
+        if let Some(name) = controls::preset_picker_ui(ui, "preset", &self.settings.preset) {
+            self.load_preset(&name, false);
+        }
+        if self.settings.compare {
+            if let Some(name) = controls::preset_picker_ui(ui, "right preset", &self.settings.compare_preset) {
+                self.load_preset(&name, true);
+            }
+            ui.horizontal(|ui| {
+                ui.label("sliders edit:");
+                ui.radio_value(&mut self.settings.edit_second, false, "left");
+                ui.radio_value(&mut self.settings.edit_second, true, "right");
+            });
+        }
+        let units = self.runs.get(usize::from(second)).map(|r| r.track().case().units);
+        if let Some(u) = &units {
+            let text = if u.is_physical() {
+                "units: mm, s".to_string()
+            } else {
+                format!("units: L = mean radius = {:.2} mm, T = {:.4} s", u.length_mm, u.time_s)
+            };
+            ui.label(RichText::new(text).small());
+        }
+        ui.separator();
+        let (preset, file) = if second {
+            (self.settings.compare_preset.clone(), &mut self.settings.compare_case)
+        } else {
+            (self.settings.preset.clone(), &mut self.settings.case)
+        };
+        let base = load_preset(&preset).unwrap_or_else(|_| file.clone());
+        let change = controls::parameters_ui(ui, file, units.as_ref(), &base);
+        ui.separator();
+        ui.checkbox(&mut self.settings.continue_on_change, "drag changes continue from now")
+            .on_hover_text("off: every change restarts from the initial state");
+        ui.checkbox(&mut self.settings.follow, "camera follows the ring");
+        ui.checkbox(&mut self.settings.show_contact, "show the contact point's path");
+        ui.checkbox(&mut self.settings.show_why, "show why it turns back");
+        if let Some(e) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(190, 20, 20), e);
+        }
+        self.apply_change(change);
+    }
+
+    fn plots_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let first_ts = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+        let names = self.run_names();
+        let runs: Vec<plots::PlotRun> = self
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| plots::PlotRun { name: &names[i], track: r.track(), t: self.run_time(i), time_factor: r.time_s() / first_ts })
+            .collect();
+        let label = self.runs.first().map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time)).unwrap_or_default();
+        plots::plots_ui(ui, &runs, &label);
+    }
+
+    fn run_names(&self) -> Vec<String> {
+        let mut v = vec![self.settings.preset.clone()];
+        if self.settings.compare {
+            v.push(self.settings.compare_preset.clone());
+        }
+        v
+    }
+
+    fn traces_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let contact = self.settings.show_contact;
+        teach::phase_legend_ui(ui);
+        let names = self.run_names();
+        let bounds = self
+            .runs
+            .iter()
+            .filter_map(|r| trace_panel::Bounds::of(r.track(), contact))
+            .reduce(trace_panel::Bounds::union);
+        let n = self.runs.len().max(1);
+        let w = (ui.available_width() - 6.0 * (n as f32 - 1.0)) / n as f32;
+        let h = ui.available_height();
+        ui.horizontal(|ui| {
+            for i in 0..self.runs.len() {
+                let t = self.run_time(i);
+                ui.allocate_ui(egui::vec2(w, h), |ui| {
+                    trace_panel::trace_panel_ui(ui, &format!("path of A from above: {}", names[i]), self.runs[i].track(), t, contact, bounds);
+                });
+            }
+        });
+    }
+
+    fn view_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let home = OrbitCamera::default_for(self.runs.first().map(|r| r.track().case().model.body.r as f32).unwrap_or(1.0));
+        let times: Vec<f64> = (0..self.runs.len()).map(|i| self.run_time(i)).collect();
+        let (follow, contact) = (self.settings.follow, self.settings.show_contact);
+        let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
+        let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), |i, cam| {
+            scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2])
+        });
+        let names = self.run_names();
+        for (i, rect) in rects.iter().enumerate() {
+            let area = rect.shrink(8.0);
+            let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area).layout(egui::Layout::top_down(egui::Align::Min)));
+            egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(4.0).inner_margin(6.0).show(&mut child, |ui| {
+                ui.set_max_width(area.width().min(460.0));
+                teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
+                if self.settings.show_why && i == 0 {
+                    ui.separator();
+                    teach::why_note_ui(ui);
+                }
+            });
+        }
+        if self.restart_pending.is_some() && self.restart_shown.is_none() && self.live {
+            // Still waiting: ask for another frame at once.
+            ui.ctx().request_repaint();
+        }
+    }
+}
+
+impl eframe::App for RinglabApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.ui_root(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+    }
+}
+
+/// Opens the window (`ringlab` with no arguments).
+pub fn run_window() -> Result<(), eframe::Error> {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default().with_title("ringlab: rolling rings").with_inner_size([1480.0, 920.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "ringlab",
+        options,
+        Box::new(|cc| {
+            if let Some(rs) = &cc.wgpu_render_state {
+                crate::render::callback::install(rs);
+            }
+            let settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
+            Ok(Box::new(RinglabApp::new(settings, Mode::Live)))
+        }),
+    )
+}
