@@ -1,6 +1,8 @@
 // The 3D scene: lit bodies, the table, the traces on it, and the shadow-map pass.
-// World space: Z up, lengths in the case's units. Output is sRGB-encoded (the offscreen
-// target is Rgba8Unorm, read back as PNG or copied into egui's non-sRGB target).
+// World space: Z up, lengths in the case's units. Colours are computed linear and written
+// sRGB-encoded into an Rgba8Unorm target (read back as PNG, or copied as they are into egui's
+// non-sRGB target). Software rasterisers (lavapipe) pay for every instruction on every pixel
+// of the table, so the table shader is kept lean.
 
 struct Globals {
     view_proj: mat4x4<f32>,
@@ -10,11 +12,14 @@ struct Globals {
     light_dir: vec4<f32>,
     // x: grid spacing, y: fade radius, z: texture tile size, w: scale (outer radius R).
     table: vec4<f32>,
-    // xy: centre of the fade, z: shadow-map texel in world units.
+    // xy: centre of the fade, z: shadow-map texel in world units, w: size of a pixel in world
+    // units at unit distance from the eye.
     fade_center: vec4<f32>,
     // xy: a contact point, z: radius of its contact shading, w: strength (0: none).
     contacts: array<vec4<f32>, 2>,
     background: vec4<f32>,
+    // xy: centre of the square of table that gets shadow and contact shading, z: half side.
+    shade_rect: vec4<f32>,
 };
 
 struct Object {
@@ -35,15 +40,17 @@ const SKY: vec3<f32> = vec3<f32>(0.80, 0.86, 0.95);
 const GROUND: vec3<f32> = vec3<f32>(0.42, 0.34, 0.27);
 const SUN: vec3<f32> = vec3<f32>(1.0, 0.96, 0.90);
 
+// Linear to sRGB without pow (three square roots; within about 0.3% of the exact curve):
+// pow costs a software rasteriser more than the rest of the table shader.
 fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
     let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    let lo = x * 12.92;
-    let hi = 1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - 0.055;
-    return select(hi, lo, x <= vec3<f32>(0.0031308));
+    let s1 = sqrt(x);
+    let s2 = sqrt(s1);
+    let s3 = sqrt(s2);
+    return clamp(0.662002687 * s1 + 0.684122060 * s2 - 0.323583601 * s3 - 0.0225411470 * x, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// Fraction of sunlight reaching `p` (1 = lit), four taps of the comparison sampler (each a
-// bilinear 2x2 filter) for a soft edge.
+// Fraction of sunlight reaching `p` (1 = lit).
 fn sunlight(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let texel = g.fade_center.z;
     let q = g.light_view_proj * vec4<f32>(p + n * (1.5 * texel), 1.0);
@@ -51,14 +58,13 @@ fn sunlight(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || q.z > 1.0) {
         return 1.0;
     }
-    let d = 1.0 / vec2<f32>(textureDimensions(shadow_map));
-    let z = q.z - 0.0015;
-    var s = 0.0;
-    s += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-0.7, -0.3) * d, z);
-    s += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(0.3, -0.7) * d, z);
-    s += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(0.7, 0.3) * d, z);
-    s += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-0.3, 0.7) * d, z);
-    return s * 0.25;
+    return sunlight_taps(uv, q.z);
+}
+
+fn sunlight_taps(uv: vec2<f32>, qz: f32) -> f32 {
+    // One comparison tap, filtered 2x2 by the sampler: soft enough at this map size, and a
+    // software rasteriser pays for every extra tap on every shaded pixel.
+    return textureSampleCompareLevel(shadow_map, shadow_sampler, uv, qz - 0.0015);
 }
 
 // Darkening of the table next to a contact point: the thin wedge of air under a tilted rim.
@@ -68,7 +74,7 @@ fn contact_shade(xy: vec2<f32>) -> f32 {
         let c = g.contacts[i];
         let r = max(c.z, 1e-6);
         let d2 = dot(xy - c.xy, xy - c.xy) / (r * r);
-        k = k * (1.0 - c.w * exp(-d2));
+        k = k * (1.0 - c.w / (1.0 + d2 * d2));
     }
     return k;
 }
@@ -129,24 +135,59 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_table(i: MeshOut) -> @location(0) vec4<f32> {
     let xy = i.world.xy;
-    let grain = textureSample(table_tex, table_sampler, xy / g.table.z).r;
-    var base = obj.color.rgb * (0.82 + 0.36 * grain);
+    var base = obj.color.rgb;
     // Grid: minor lines every spacing, major every five; minor ones fade out where they would
     // be closer than a few pixels.
-    let s = g.table.x;
-    let q = xy / s;
+    let q = xy / g.table.x;
     let fw = max(fwidth(q), vec2<f32>(1e-6));
     let minor = abs(fract(q - 0.5) - 0.5) / fw;
     let minor_line = (1.0 - clamp(min(minor.x, minor.y), 0.0, 1.0)) * (1.0 - smoothstep(0.15, 0.35, max(fw.x, fw.y)));
-    let q5 = q / 5.0;
-    let fw5 = fw / 5.0;
-    let major = abs(fract(q5 - 0.5) - 0.5) / fw5;
-    let major_line = (1.0 - clamp(min(major.x, major.y) / 1.6, 0.0, 1.0)) * (1.0 - smoothstep(0.2, 0.5, max(fw5.x, fw5.y)));
-    base = mix(base, base * 0.62, max(0.45 * minor_line, 0.8 * major_line));
-    let lit = sunlight(i.world, vec3<f32>(0.0, 0.0, 1.0));
-    let shade = (0.45 + 0.6 * g.light_dir.z * lit) * contact_shade(xy);
-    let c = fade(xy, base * shade * SUN);
+    let fw5 = fw * 0.2;
+    let major = abs(fract(q * 0.2 - 0.5) - 0.5) / fw5;
+    let major_line = (1.0 - clamp(min(major.x, major.y) * 0.6, 0.0, 1.0)) * (1.0 - smoothstep(0.2, 0.5, max(fw5.x, fw5.y)));
+    base = base * (1.0 - max(0.2 * minor_line, 0.38 * major_line));
+    // Sunlit everywhere here; the shading pass darkens the shadow and the contacts.
+    let c = fade(xy, base * (0.45 + 0.6 * g.light_dir.z) * SUN);
     return vec4<f32>(srgb_encode(c), 1.0);
+}
+
+// ---- shadow and contact shading of the table, one square around the bodies ----------------
+// Drawn over the table and the traces with a multiplying blend, so that only the pixels near
+// the bodies pay for the shadow-map look-ups.
+
+struct ShadeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) xy: vec2<f32>,
+    @location(1) light: vec3<f32>,
+};
+
+@vertex
+fn vs_shade(@builtin(vertex_index) vi: u32) -> ShadeOut {
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let xy = g.shade_rect.xy + corners[vi] * g.shade_rect.z;
+    let w = vec4<f32>(xy, 0.0, 1.0);
+    var o: ShadeOut;
+    o.clip = g.view_proj * w;
+    o.xy = xy;
+    // The table is a plane: its light-space position is affine, so it interpolates exactly.
+    let q = g.light_view_proj * w;
+    o.light = vec3<f32>(q.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5, 0.5), q.z);
+    return o;
+}
+
+@fragment
+fn fs_shade(i: ShadeOut) -> @location(0) vec4<f32> {
+    var lit = 1.0;
+    if (all(i.light.xy > vec2<f32>(0.0)) && all(i.light.xy < vec2<f32>(1.0))) {
+        lit = sunlight_taps(i.light.xy, i.light.z);
+    }
+    let k = (0.45 + 0.6 * g.light_dir.z * lit) / (0.45 + 0.6 * g.light_dir.z) * contact_shade(i.xy);
+    // The target holds sRGB-encoded values: scale them by the encoded factor.
+    let e = srgb_encode(vec3<f32>(k));
+    return vec4<f32>(e, 1.0);
 }
 
 // ---- shadow map -----------------------------------------------------------------------------
@@ -161,7 +202,7 @@ fn vs_shadow(v: MeshIn) -> @builtin(position) vec4<f32> {
 struct SegIn {
     @location(0) ab: vec4<f32>,
     @location(1) color: vec4<f32>,
-    // x: half width, y: height above the table.
+    // x: half width, y: least half width in pixels.
     @location(2) extra: vec2<f32>,
 };
 
@@ -183,7 +224,9 @@ fn vs_trace(@builtin(vertex_index) vi: u32, s: SegIn) -> SegOut {
     let k = corners[vi];
     let a = s.ab.xy;
     let b = s.ab.zw;
-    let hw = s.extra.x;
+    // Never thinner than a few pixels, so that far paths stay visible.
+    let mid = vec3<f32>(mix(a, b, k.x), 0.0);
+    let hw = max(s.extra.x, s.extra.y * g.fade_center.w * distance(mid, g.eye.xyz));
     var dir = b - a;
     let len = length(dir);
     if (len > 1e-9) {
@@ -194,7 +237,7 @@ fn vs_trace(@builtin(vertex_index) vi: u32, s: SegIn) -> SegOut {
     let side = vec2<f32>(-dir.y, dir.x);
     let p = mix(a, b, k.x) + dir * (2.0 * k.x - 1.0) * hw + side * k.y * hw;
     var o: SegOut;
-    o.world = vec3<f32>(p, s.extra.y);
+    o.world = vec3<f32>(p, 0.0);
     o.clip = g.view_proj * vec4<f32>(o.world, 1.0);
     o.color = s.color;
     o.across = k.y;
@@ -203,11 +246,10 @@ fn vs_trace(@builtin(vertex_index) vi: u32, s: SegIn) -> SegOut {
 
 @fragment
 fn fs_trace(i: SegOut) -> @location(0) vec4<f32> {
+    // Coverage from the distance to the edge in pixels: full inside, half on the edge.
     let e = abs(i.across);
-    let aa = max(fwidth(i.across), 1e-4);
-    let alpha = i.color.a * (1.0 - smoothstep(1.0 - 1.5 * aa, 1.0, e));
-    let lit = sunlight(i.world, vec3<f32>(0.0, 0.0, 1.0));
-    let shade = 0.55 + 0.5 * g.light_dir.z * lit;
-    let c = fade(i.world.xy, i.color.rgb * shade);
+    let per_px = max(fwidth(i.across), 1e-4);
+    let alpha = i.color.a * clamp((1.0 - e) / per_px + 0.5, 0.0, 1.0);
+    let c = fade(i.world.xy, i.color.rgb * (0.55 + 0.5 * g.light_dir.z));
     return vec4<f32>(srgb_encode(c), alpha);
 }

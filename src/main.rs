@@ -20,6 +20,8 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
+    /// Measure the speed of the visualizer (offscreen, the integrator thread, the window)
+    BenchView(cli::bench_view::BenchViewArgs),
     /// Draw a picture without a window (the 3D scene, the trace panel or the whole app)
     Render(cli::render::RenderArgs),
     /// List the presets
@@ -33,6 +35,7 @@ fn main() -> Result<()> {
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
         Some(Command::Render(a)) => cli::render::run(&a),
+        Some(Command::BenchView(a)) => cli::bench_view::run(&a),
         Some(Command::Presets) => {
             for name in ringlab::config::preset_names() {
                 let f = ringlab::config::load_preset(name)?;

@@ -62,8 +62,10 @@ mod tests {
         let b = &model.body;
         for s in &samples {
             let pose = BodyPose::new(s, b);
-            // P = C - (h/2) e2 - R e3 in ring coordinates (0, -h/2, -R), whatever psi is.
-            let p = pose.world_from_ring.transform_point3(Vec3::new(0.0, -0.5 * b.h as f32, -b.r as f32));
+            // P = C - (h/2) e2 - R e3: (0, -h/2, -R) in the frame, which does not spin with psi.
+            let c = DVec3::new(s.x_c(), s.y_c(), s.z_c);
+            let frame = world_from_ring(s.phi(), s.theta(), 0.0, c);
+            let p = frame.transform_point3(Vec3::new(0.0, -0.5 * b.h as f32, -b.r as f32));
             assert!(p.z.abs() < 1e-5, "contact at z = {} (t = {})", p.z, s.t);
             assert!((p.truncate() - pose.contact).length() < 1e-4);
             assert!((pose.point_a.x - s.x_a as f32).abs() < 1e-4 && (pose.point_a.y - s.y_a as f32).abs() < 1e-4);

@@ -9,10 +9,13 @@ use glam::{Mat4, Vec3, Vec4};
 use std::num::NonZeroU64;
 use wgpu::util::DeviceExt;
 
-/// The offscreen colour format: 8-bit, holding sRGB-encoded values the shaders wrote.
+/// The offscreen colour format: 8-bit, holding the sRGB-encoded values the shaders write (an
+/// sRGB view that encodes on write measured slower on lavapipe than the shaders' own cheap
+/// encoding).
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const DRAW_FORMAT: wgpu::TextureFormat = COLOR_FORMAT;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-const SHADOW_SIZE: u32 = 2048;
+const SHADOW_SIZE: u32 = 1024;
 /// Uniform slots per object (table and bodies), 256 bytes apart (the dynamic-offset alignment).
 const OBJECT_STRIDE: u64 = 256;
 const MAX_OBJECTS: usize = 8;
@@ -34,6 +37,7 @@ struct Globals {
     fade_center: [f32; 4],
     contacts: [[f32; 4]; 2],
     background: [f32; 4],
+    shade_rect: [f32; 4],
 }
 
 #[repr(C)]
@@ -100,6 +104,7 @@ pub struct SceneRenderer {
     body_pipeline: wgpu::RenderPipeline,
     table_pipeline: wgpu::RenderPipeline,
     trace_pipeline: wgpu::RenderPipeline,
+    shade_pipeline: wgpu::RenderPipeline,
     shadow_pipeline: wgpu::RenderPipeline,
     blit: Option<Blit>,
     globals_layout: wgpu::BindGroupLayout,
@@ -254,12 +259,12 @@ impl SceneRenderer {
             bias,
         };
         let opaque = [Some(wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
+            format: DRAW_FORMAT,
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
         let blended = [Some(wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
+            format: DRAW_FORMAT,
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
             write_mask: wgpu::ColorWrites::ALL,
         })];
@@ -314,6 +319,48 @@ impl SceneRenderer {
             multiview_mask: None,
             cache: None,
         });
+        // Shadow and contact shading of the table near the bodies: multiplies what the table
+        // and the traces left (blend: source times destination), before the bodies are drawn.
+        let multiply = [Some(wgpu::ColorTargetState {
+            format: DRAW_FORMAT,
+            blend: Some(wgpu::BlendState {
+                color: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Dst,
+                    dst_factor: wgpu::BlendFactor::Zero,
+                    operation: wgpu::BlendOperation::Add,
+                },
+                alpha: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Zero,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                },
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let shade_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("table shading"),
+            layout: Some(&main_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_shade"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(depth(
+                false,
+                wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 },
+            )),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_shade"),
+                compilation_options: Default::default(),
+                targets: &multiply,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("shadow"),
             layout: Some(&shadow_layout),
@@ -336,6 +383,7 @@ impl SceneRenderer {
             body_pipeline,
             table_pipeline,
             trace_pipeline,
+            shade_pipeline,
             shadow_pipeline,
             blit,
             globals_layout,
@@ -499,9 +547,15 @@ impl SceneRenderer {
             eye: cam.eye.extend(1.0).to_array(),
             light_dir: light.extend(0.0).to_array(),
             table: [frame.grid_spacing, fade_radius, 4.0 * scale, scale],
-            fade_center: [frame.focus.x, frame.focus.y, 2.0 * reach / SHADOW_SIZE as f32, 0.0],
+            fade_center: [
+                frame.focus.x,
+                frame.focus.y,
+                2.0 * reach / SHADOW_SIZE as f32,
+                2.0 * (0.5 * cam.fov_y).tan() / size[1] as f32,
+            ],
             contacts,
             background: Vec3::from(BACKGROUND).extend(1.0).to_array(),
+            shade_rect: [centre.x, centre.y, if frame.bodies.is_empty() { 0.0 } else { reach }, 0.0],
         };
         queue.write_buffer(&self.slots[slot].globals, 0, bytemuck::bytes_of(&globals));
 
@@ -593,6 +647,15 @@ impl SceneRenderer {
         pass.set_vertex_buffer(0, self.table.vertices.slice(..));
         pass.set_index_buffer(self.table.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.table.count, 0, 0..1);
+        if trace_count > 0 {
+            pass.set_pipeline(&self.trace_pipeline);
+            pass.set_vertex_buffer(0, view.traces.slice(..));
+            pass.draw(0..6, 0..trace_count);
+        }
+        if !meshes.is_empty() {
+            pass.set_pipeline(&self.shade_pipeline);
+            pass.draw(0..6, 0..1);
+        }
         pass.set_pipeline(&self.body_pipeline);
         for (k, &m) in meshes.iter().enumerate() {
             let mesh = &self.bodies[m].1;
@@ -600,12 +663,6 @@ impl SceneRenderer {
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.count, 0, 0..1);
-        }
-        if trace_count > 0 {
-            pass.set_pipeline(&self.trace_pipeline);
-            pass.set_bind_group(1, &view.objects_group, &[0]);
-            pass.set_vertex_buffer(0, view.traces.slice(..));
-            pass.draw(0..6, 0..trace_count);
         }
     }
 

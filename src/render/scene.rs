@@ -24,13 +24,13 @@ pub struct TraceSegment {
     pub ab: [f32; 4],
     /// Linear RGB and opacity.
     pub color: [f32; 4],
-    /// Half width and height above the table.
+    /// Half width (table units) and the least half width in pixels.
     pub extra: [f32; 2],
 }
 
 impl TraceSegment {
-    pub fn new(a: Vec2, b: Vec2, color: [f32; 4], half_width: f32, lift: f32) -> TraceSegment {
-        TraceSegment { ab: [a.x, a.y, b.x, b.y], color, extra: [half_width, lift] }
+    pub fn new(a: Vec2, b: Vec2, color: [f32; 4], half_width: f32, min_half_px: f32) -> TraceSegment {
+        TraceSegment { ab: [a.x, a.y, b.x, b.y], color, extra: [half_width, min_half_px] }
     }
 }
 

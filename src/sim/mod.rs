@@ -13,5 +13,5 @@ pub mod track;
 pub mod worker;
 
 pub use player::{Player, SPEED_MAX, SPEED_MIN};
-pub use track::{StateAt, Track};
+pub use track::{PathPoint, StateAt, Track};
 pub use worker::{CHANNEL_CAPACITY, Event, RunEnd, SimHandle, Start};

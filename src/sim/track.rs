@@ -13,6 +13,24 @@ use crate::physics::{Interval, Sample, TurningPoint};
 /// output spacing, far beyond any preset's run.
 pub const MAX_SAMPLES: usize = 120_000;
 
+/// Largest turn of the heading `phi` between two drawn points of a path (rad). Near the end
+/// `phi` turns by a radian or more between output states and A and P run round small loops.
+const PATH_MAX_TURN: f64 = 0.2;
+
+/// A point of the drawn paths: A (the centre of the top edge) and the contact point P.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathPoint {
+    pub t: f64,
+    pub a: [f64; 2],
+    pub p: [f64; 2],
+}
+
+impl PathPoint {
+    fn of(s: &Sample) -> PathPoint {
+        PathPoint { t: s.t, a: [s.x_a, s.y_a], p: [s.x_p, s.y_p] }
+    }
+}
+
 /// A state at a display time: the received states around it, blended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StateAt {
@@ -303,7 +321,56 @@ impl Track {
         }
         let i = self.samples.partition_point(|s| s.t <= t);
         let (a, b) = (&self.samples[i - 1], &self.samples[i]);
-        Some(StateAt { sample: blend(a, b, t), clamped: false })
+        Some(StateAt { sample: self.blend(a, b, t), clamped: false })
+    }
+
+    /// The paths of A and P up to `t`, ending at the state at `t`: the received states, with
+    /// blended ones between two of them wherever the heading turns by more than
+    /// [`PATH_MAX_TURN`]. With more than `max_states` states, only every k-th is used.
+    pub fn path_until(&self, t: f64, max_states: usize) -> Vec<PathPoint> {
+        let s = self.samples_until(t);
+        let Some(last) = s.last() else { return Vec::new() };
+        let stride = s.len().div_ceil(max_states.max(2)).max(1);
+        let mut idx: Vec<usize> = (0..s.len()).step_by(stride).collect();
+        if idx.last() != Some(&(s.len() - 1)) {
+            idx.push(s.len() - 1);
+        }
+        let mut out = Vec::with_capacity(idx.len() * 2);
+        for w in idx.windows(2) {
+            let (a, b) = (&s[w[0]], &s[w[1]]);
+            out.push(PathPoint::of(a));
+            if w[1] == w[0] + 1 {
+                let k = ((b.phi() - a.phi()).abs() / PATH_MAX_TURN).ceil().min(64.0) as usize;
+                for m in 1..k {
+                    let tm = a.t + (b.t - a.t) * m as f64 / k as f64;
+                    out.push(PathPoint::of(&self.blend(a, b, tm)));
+                }
+            }
+        }
+        out.push(PathPoint::of(last));
+        if let Some(now) = self.state_at(t).filter(|n| !n.clamped && n.sample.t > last.t) {
+            out.push(PathPoint::of(&now.sample));
+        }
+        out
+    }
+
+    /// The state at `t` between two received states `a` and `b`: the angles by cubic Hermite
+    /// interpolation with their exact rates, the centre of mass and the derived values
+    /// linearly; A and P follow from the angles and the centre (so they stay on the body).
+    fn blend(&self, a: &Sample, b: &Sample, t: f64) -> Sample {
+        let mut s = blend(a, b, t);
+        let body = &self.case.model.body;
+        let half = 0.5 * body.h;
+        let (st, ct) = s.theta().sin_cos();
+        let (sp, cp) = s.phi().sin_cos();
+        let (xc, yc) = (s.x_c(), s.y_c());
+        s.x_a = xc - half * ct * sp;
+        s.y_a = yc + half * ct * cp;
+        let lever = body.r * st - half * ct;
+        s.x_p = xc - lever * sp;
+        s.y_p = yc + lever * cp;
+        s.z_c = half * st + body.r * ct;
+        s
     }
 
     /// Cuts the track at `t0` for a continuation by run `run` with `case`: states and turning
@@ -430,6 +497,21 @@ mod tests {
         }
         let end = track.state_at(1e9).expect("state");
         assert!(end.clamped);
+    }
+
+    #[test]
+    fn blended_points_stay_on_the_body() {
+        let track = Track::compute(paper_case());
+        let s = track.samples();
+        let k = s.len() - 40; // near the end, where phi turns fast
+        let (a, b) = (s[k], s[k + 1]);
+        let mid = track.state_at(0.5 * (a.t + b.t)).expect("state").sample;
+        let exact = Sample::new(&track.case().model, mid.t, &mid.y);
+        assert!((mid.x_a - exact.x_a).abs() < 1e-12 && (mid.y_p - exact.y_p).abs() < 1e-12);
+        let path = track.path_until(b.t, 100_000);
+        let n_states = track.samples_until(b.t).len();
+        assert!(path.len() > n_states, "fast turns get extra points");
+        assert!(path.windows(2).all(|w| w[1].t > w[0].t));
     }
 
     #[test]

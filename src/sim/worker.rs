@@ -6,6 +6,8 @@ use super::track::Track;
 use crate::config::Case;
 use crate::physics::{EndReason, Interval, Sample, Simulation, StateVec, TurningPoint};
 use std::collections::VecDeque;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvError, TrySendError};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -77,6 +79,9 @@ pub struct SimHandle {
     events: Option<Receiver<Event>>,
     thread: Option<JoinHandle<()>>,
     run: u64,
+    /// Events the worker has put into the channel, and those taken out here.
+    sent: Arc<AtomicU64>,
+    taken: u64,
     pub track: Track,
 }
 
@@ -85,12 +90,18 @@ impl SimHandle {
     pub fn spawn(case: Case) -> Result<SimHandle, SimError> {
         let (cmd_tx, cmd_rx) = mpsc::channel();
         let (ev_tx, ev_rx) = mpsc::sync_channel(CHANNEL_CAPACITY);
-        let thread = std::thread::Builder::new().name("ringlab-integrator".into()).spawn(move || worker(cmd_rx, ev_tx))?;
+        let sent = Arc::new(AtomicU64::new(0));
+        let counter = sent.clone();
+        let thread = std::thread::Builder::new()
+            .name("ringlab-integrator".into())
+            .spawn(move || worker(cmd_rx, ev_tx, &counter))?;
         let mut handle = SimHandle {
             commands: Some(cmd_tx),
             events: Some(ev_rx),
             thread: Some(thread),
             run: 0,
+            sent,
+            taken: 0,
             track: Track::new(0, case.clone()),
         };
         handle.start(case, Start::Initial);
@@ -143,6 +154,7 @@ impl SimHandle {
             match rx.try_recv() {
                 Ok(ev) => {
                     taken += 1;
+                    self.taken += 1;
                     if ev.run() == self.run {
                         self.track.apply(ev);
                     }
@@ -151,6 +163,17 @@ impl SimHandle {
             }
         }
         taken
+    }
+
+    /// Events the worker has sent and the UI has not taken yet: never more than the channel
+    /// holds ([`CHANNEL_CAPACITY`]).
+    pub fn in_flight(&self) -> u64 {
+        self.sent.load(Ordering::Acquire).saturating_sub(self.taken)
+    }
+
+    /// Events taken from the channel so far.
+    pub fn taken(&self) -> u64 {
+        self.taken
     }
 
     /// Whether the worker thread is still alive.
@@ -215,7 +238,7 @@ impl Running {
     }
 }
 
-fn worker(commands: Receiver<Command>, events: SyncSender<Event>) {
+fn worker(commands: Receiver<Command>, events: SyncSender<Event>, sent: &AtomicU64) {
     let mut current: Option<Running> = None;
     let mut pending: VecDeque<Event> = VecDeque::new();
     loop {
@@ -240,7 +263,9 @@ fn worker(commands: Receiver<Command>, events: SyncSender<Event>) {
         // Hand over what is queued; a full channel means the display is far enough behind.
         while let Some(ev) = pending.pop_front() {
             match events.try_send(ev) {
-                Ok(()) => {}
+                Ok(()) => {
+                    sent.fetch_add(1, Ordering::Release);
+                }
                 Err(TrySendError::Full(ev)) => {
                     pending.push_front(ev);
                     break;

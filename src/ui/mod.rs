@@ -58,7 +58,8 @@ impl Default for Settings {
             compare_case: builtin("paper-disk-drag"),
             compare: false,
             edit_second: false,
-            speed: 1.0,
+            // A quarter of real time: at 1x the paper's ring wobbles 15 times a second.
+            speed: 0.25,
             follow: true,
             show_contact: true,
             show_why: false,

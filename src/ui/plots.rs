@@ -5,7 +5,7 @@ use super::palette::{LIFT_OFF_FILL, RUN_COLORS, SLIP_FILL};
 use crate::physics::Sample;
 use crate::sim::Track;
 use eframe::egui::{self, Color32, Id};
-use egui_plot::{Legend, Line, Plot, PlotPoints, Points, Span, VLine};
+use egui_plot::{Line, Plot, PlotPoints, Points, Span, VLine};
 
 /// Points per series at most.
 const MAX_POINTS: usize = 1500;
@@ -45,6 +45,20 @@ fn series(run: &PlotRun, value: fn(&Sample) -> f64) -> Vec<[f64; 2]> {
 
 /// The four plots in a 2 x 2 grid filling the space given; `time_label`: the time axis' unit.
 pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str) {
+    ui.horizontal(|ui| {
+        ui.label(egui::RichText::new("Shaded: the model's assumptions fail there:").small());
+        super::teach::swatch_ui(ui, LIFT_OFF_FILL);
+        ui.label(egui::RichText::new("lift-off (F_N <= 0)").small());
+        super::teach::swatch_ui(ui, SLIP_FILL);
+        ui.label(egui::RichText::new("slip (friction needed > mu F_N)").small());
+        if runs.len() > 1 {
+            ui.separator();
+            for (i, run) in runs.iter().enumerate() {
+                super::teach::swatch_ui(ui, RUN_COLORS[i % RUN_COLORS.len()]);
+                ui.label(egui::RichText::new(run.name).small());
+            }
+        }
+    });
     let size = ui.available_size();
     let cell = egui::vec2((size.x - 12.0).max(100.0) / 2.0, (size.y - 8.0).max(80.0) / 2.0);
     let link = Id::unique("ringlab-plots-time");
@@ -62,7 +76,7 @@ fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], time_labe
     ui.vertical(|ui| {
         ui.label(egui::RichText::new(q.label).small());
         let h = (cell.y - 20.0).max(40.0);
-        let mut plot = Plot::new(q.id)
+        let plot = Plot::new(q.id)
             .height(h)
             .width(cell.x)
             .link_axis(link, [true, false])
@@ -71,17 +85,14 @@ fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], time_labe
             .allow_scroll(false)
             .show_axes([true, true])
             .include_x(0.0);
-        if runs.len() > 1 {
-            plot = plot.legend(Legend::default());
-        }
         plot.show(ui, |p| {
             for (i, run) in runs.iter().enumerate() {
                 let color = RUN_COLORS[i % RUN_COLORS.len()];
                 for iv in run.track.lift_off_until(run.t) {
-                    p.add(Span::new("lift-off (model invalid)", iv.start * run.time_factor..=iv.end * run.time_factor).fill(LIFT_OFF_FILL));
+                    p.add(Span::new("", iv.start * run.time_factor..=iv.end * run.time_factor).fill(LIFT_OFF_FILL));
                 }
                 for iv in run.track.slip_until(run.t) {
-                    p.add(Span::new("slip (model invalid)", iv.start * run.time_factor..=iv.end * run.time_factor).fill(SLIP_FILL));
+                    p.add(Span::new("", iv.start * run.time_factor..=iv.end * run.time_factor).fill(SLIP_FILL));
                 }
                 p.line(Line::new(run.name, PlotPoints::new(series(run, q.value))).color(color).width(1.2));
                 if q.id == "F_f" {

@@ -2,13 +2,14 @@
 //! of A coloured by phase, the contact point's path, the start and the inflection.
 
 use super::palette::{CONTACT_RGB, phase_linear, srgb_to_linear};
-use crate::physics::{Body, Sample};
+use crate::physics::Body;
 use crate::render::{BodyDraw, BodyGeometry, BodyPose, CameraView, OrbitCamera, SceneFrame, TraceSegment, nice_step};
 use crate::sim::Track;
 use glam::{Vec2, Vec3};
 
-/// Segments of one path at most; longer paths are thinned (every k-th state).
-const MAX_SEGMENTS: usize = 6000;
+/// States of one path at most (before the extra points where it turns fast); longer tracks
+/// are thinned (every k-th state).
+const MAX_STATES: usize = 8000;
 
 pub fn body_geometry(b: &Body) -> BodyGeometry {
     BodyGeometry { r: b.r as f32, h: b.h as f32, w: b.w.min(b.r) as f32 }
@@ -40,49 +41,33 @@ fn circle(out: &mut Vec<TraceSegment>, c: Vec2, r: f32, color: [f32; 4], half_wi
             c + r * Vec2::new(a1.cos(), a1.sin()),
             color,
             half_width,
-            0.0,
+            0.8,
         ));
     }
 }
 
-/// The traces of one track up to `t`: the contact path (optional, thin grey) under the path
-/// of A coloured by phase, a ring at the start and one at the inflection.
+/// The traces of one track up to `t`: the contact path (optional, thin and faint) under the
+/// path of A coloured by phase, a ring at the start and one at the inflection.
 pub fn trace_segments(track: &Track, t: f64, show_contact: bool) -> Vec<TraceSegment> {
     let r = track.case().model.body.r as f32;
-    let samples = track.samples_until(t);
-    let mut out = Vec::new();
-    if samples.is_empty() {
-        return out;
-    }
-    let stride = samples.len().div_ceil(MAX_SEGMENTS).max(1);
-    let now = track.state_at(t).map(|s| s.sample);
-    let mut idx: Vec<usize> = (0..samples.len()).step_by(stride).collect();
-    if idx.last() != Some(&(samples.len() - 1)) {
-        idx.push(samples.len() - 1);
-    }
-    let pts: Vec<&Sample> = idx.iter().map(|&i| &samples[i]).collect();
+    let path = track.path_until(t, MAX_STATES);
+    let mut out = Vec::with_capacity(2 * path.len() + 60);
+    let Some(first) = path.first() else { return out };
+    let v = |p: [f64; 2]| Vec2::new(p[0] as f32, p[1] as f32);
     if show_contact {
-        let c = CONTACT_RGB.map(|v| srgb_to_linear(v as f32 / 255.0));
-        let color = [c[0], c[1], c[2], 0.8];
-        for w in pts.windows(2) {
-            out.push(TraceSegment::new(Vec2::new(w[0].x_p as f32, w[0].y_p as f32), Vec2::new(w[1].x_p as f32, w[1].y_p as f32), color, 0.012 * r, 0.0));
-        }
-        if let (Some(a), Some(b)) = (pts.last(), now) {
-            out.push(TraceSegment::new(Vec2::new(a.x_p as f32, a.y_p as f32), Vec2::new(b.x_p as f32, b.y_p as f32), color, 0.012 * r, 0.0));
+        let c = CONTACT_RGB.map(|x| srgb_to_linear(x as f32 / 255.0));
+        let color = [c[0], c[1], c[2], 0.35];
+        for w in path.windows(2) {
+            out.push(TraceSegment::new(v(w[0].p), v(w[1].p), color, 0.01 * r, 0.5));
         }
     }
     let hw = 0.028 * r;
-    for w in pts.windows(2) {
+    for w in path.windows(2) {
         let color = phase_linear(track.phase_at(w[0].t), 1.0);
-        out.push(TraceSegment::new(Vec2::new(w[0].x_a as f32, w[0].y_a as f32), Vec2::new(w[1].x_a as f32, w[1].y_a as f32), color, hw, 0.0));
-    }
-    if let (Some(a), Some(b)) = (pts.last(), now) {
-        let color = phase_linear(track.phase_at(a.t), 1.0);
-        out.push(TraceSegment::new(Vec2::new(a.x_a as f32, a.y_a as f32), Vec2::new(b.x_a as f32, b.y_a as f32), color, hw, 0.0));
+        out.push(TraceSegment::new(v(w[0].a), v(w[1].a), color, hw, 1.1));
     }
     let dark = [0.02, 0.02, 0.03, 0.9];
-    let first = samples[0];
-    circle(&mut out, Vec2::new(first.x_a as f32, first.y_a as f32), 0.12 * r, dark, 0.015 * r);
+    circle(&mut out, v(first.a), 0.12 * r, dark, 0.015 * r);
     if let Some(ti) = track.inflection_time().filter(|&ti| ti <= t) {
         if let Some(s) = track.state_at(ti) {
             let p = Vec2::new(s.sample.x_a as f32, s.sample.y_a as f32);

@@ -125,23 +125,18 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
         gy += grid;
     }
 
-    let samples = track.samples_until(t);
-    let stride = samples.len().div_ceil(MAX_POINTS).max(1);
-    let now = track.state_at(t).map(|s| s.sample);
-    if show_contact && !samples.is_empty() {
-        let c = Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]).gamma_multiply(0.55);
-        let mut pts: Vec<Pos2> = samples.iter().step_by(stride).map(|s| map.to_screen(s.x_p, s.y_p)).collect();
-        if let Some(n) = now {
-            pts.push(map.to_screen(n.x_p, n.y_p));
-        }
-        painter.add(Shape::line(pts, Stroke::new(0.8, c)));
+    let path = track.path_until(t, MAX_POINTS);
+    let scr = |p: [f64; 2]| map.to_screen(p[0], p[1]);
+    if show_contact && path.len() > 1 {
+        let c = Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]).gamma_multiply(0.45);
+        painter.add(Shape::line(path.iter().map(|q| scr(q.p)).collect(), Stroke::new(0.8, c)));
     }
     // The path of A in runs of one colour (one phase).
     let mut run: Vec<Pos2> = Vec::new();
     let mut run_phase = None;
-    for (k, s) in samples.iter().enumerate().step_by(stride) {
-        let phase = track.phase_at(s.t);
-        let p = map.to_screen(s.x_a, s.y_a);
+    for (k, q) in path.iter().enumerate() {
+        let phase = track.phase_at(q.t);
+        let p = scr(q.a);
         if k > 0 && phase != run_phase && !run.is_empty() {
             run.push(p);
             painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.6, phase_color(run_phase))));
@@ -149,15 +144,12 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
         run_phase = phase;
         run.push(p);
     }
-    if let Some(n) = now {
-        run.push(map.to_screen(n.x_a, n.y_a));
-    }
     if run.len() > 1 {
         painter.add(Shape::line(run, Stroke::new(1.6, phase_color(run_phase))));
     }
 
-    if let Some(first) = samples.first() {
-        let p = map.to_screen(first.x_a, first.y_a);
+    if let Some(first) = path.first() {
+        let p = scr(first.a);
         painter.circle_stroke(p, 5.0, Stroke::new(1.5, INK));
         painter.text(p + Vec2::new(7.0, -7.0), Align2::LEFT_BOTTOM, "start", font.clone(), INK);
     }
@@ -169,7 +161,7 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
             painter.text(p + Vec2::new(9.0, 9.0), Align2::LEFT_TOP, "inflection", font.clone(), INK);
         }
     }
-    if let Some(n) = now {
+    if let Some(n) = track.state_at(t).map(|s| s.sample) {
         if show_contact {
             painter.circle_filled(map.to_screen(n.x_p, n.y_p), 3.0, Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]));
         }
