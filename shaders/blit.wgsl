@@ -3,7 +3,6 @@
 // as they are; an sRGB target gets them decoded first (the hardware encodes them again).
 
 @group(0) @binding(0) var scene: texture_2d<f32>;
-@group(0) @binding(1) var scene_sampler: sampler;
 
 struct Out {
     @builtin(position) clip: vec4<f32>,
@@ -21,14 +20,22 @@ fn vs_full(@builtin(vertex_index) vi: u32) -> Out {
     return o;
 }
 
+// The target has the view's size in pixels: load the texel under the pixel (no filtering,
+// no derivatives: cheapest on a software rasteriser).
+fn texel(uv: vec2<f32>) -> vec4<f32> {
+    let size = vec2<i32>(textureDimensions(scene));
+    let p = clamp(vec2<i32>(uv * vec2<f32>(size)), vec2<i32>(0), size - vec2<i32>(1));
+    return textureLoad(scene, p, 0);
+}
+
 @fragment
 fn fs_copy(i: Out) -> @location(0) vec4<f32> {
-    return textureSample(scene, scene_sampler, i.uv);
+    return texel(i.uv);
 }
 
 @fragment
 fn fs_decode(i: Out) -> @location(0) vec4<f32> {
-    let c = textureSample(scene, scene_sampler, i.uv);
+    let c = texel(i.uv);
     let lo = c.rgb / 12.92;
     let hi = pow((c.rgb + 0.055) / 1.055, vec3<f32>(2.4));
     return vec4<f32>(select(hi, lo, c.rgb <= vec3<f32>(0.04045)), c.a);

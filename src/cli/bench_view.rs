@@ -129,18 +129,22 @@ fn app_offscreen(frames: usize) -> Result<()> {
     let mut ui = UiRenderer::new(&gpu);
     let case = paper_case()?;
     let mut times = Vec::new();
+    let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 0.0 });
+    let mut cpu = 0.0;
     for k in 0..frames.max(1) + 2 {
-        let seconds = (40.0 + k as f64) * case.units.time_s;
-        let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds });
+        app.player.seek((40.0 + k as f64) * case.units.time_s);
+        let c0 = cpu_seconds();
         let clock = Instant::now();
         let _img = ui.render(&gpu, [1480, 920], 1, |u| app.ui_root(u))?;
         if k >= 2 {
             times.push(clock.elapsed().as_secs_f64() * 1e3);
+            cpu += cpu_seconds().zip(c0).map_or(0.0, |(b, a)| b - a);
         }
     }
     let report = serde_json::json!({
         "what": "whole app drawn offscreen at 1480x920 (one egui pass + 3D + plots + read-back)",
         "adapter": gpu.adapter.name,
+        "cpu_ms_per_frame": cpu * 1e3 / frames.max(1) as f64,
         "frame": stats(times),
     });
     println!("{}", serde_json::to_string_pretty(&report)?);
@@ -237,6 +241,8 @@ struct WindowBench {
     rss: Vec<(f64, f64)>,
     next_rss: f64,
     done: bool,
+    /// CPU seconds and frames counted from the end of the warm-up second.
+    cpu_start: Option<(f64, usize)>,
 }
 
 impl eframe::App for WindowBench {
@@ -246,6 +252,9 @@ impl eframe::App for WindowBench {
         // Skip the first second (start-up, first pipelines).
         if let Some(prev) = self.last_frame.filter(|_| elapsed > 1.0) {
             self.intervals.push(now.duration_since(prev).as_secs_f64() * 1e3);
+            if self.cpu_start.is_none() {
+                self.cpu_start = cpu_seconds().map(|c| (c, self.intervals.len()));
+            }
         }
         self.last_frame = Some(now);
         if elapsed >= self.next_rss {
@@ -279,7 +288,12 @@ impl eframe::App for WindowBench {
 
 impl WindowBench {
     fn report(&self) {
+        let cpu_ms_per_frame = match (self.cpu_start, cpu_seconds()) {
+            (Some((c0, n0)), Some(c1)) if self.intervals.len() > n0 => Some((c1 - c0) * 1e3 / (self.intervals.len() - n0) as f64),
+            _ => None,
+        };
         let report = serde_json::json!({
+            "cpu_ms_per_frame": cpu_ms_per_frame,
             "what": "the window (1480x920) playing the paper ring at 1x, restarting every 2 s",
             "seconds": self.seconds,
             "frame_interval": stats(self.intervals.clone()),
@@ -309,6 +323,7 @@ fn window(seconds: f64) -> Result<()> {
         Box::new(move |cc| {
             if let Some(rs) = &cc.wgpu_render_state {
                 ringlab::render::callback::install(rs);
+                ringlab::ui::adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
             }
             let settings = Settings { speed: 1.0, ..Settings::default() };
             let now = Instant::now();
@@ -325,6 +340,7 @@ fn window(seconds: f64) -> Result<()> {
                 rss: Vec::new(),
                 next_rss: 0.0,
                 done: false,
+                cpu_start: None,
             }))
         }),
     )

@@ -128,13 +128,14 @@ pub struct UiRenderer {
 
 impl UiRenderer {
     pub fn new(gpu: &Gpu) -> UiRenderer {
-        let mut renderer = egui_wgpu::Renderer::new(&gpu.device, COLOR_FORMAT, egui_wgpu::RendererOptions::PREDICTABLE);
+        let mut renderer = egui_wgpu::Renderer::new(&gpu.device, COLOR_FORMAT, egui_wgpu::RendererOptions { dithering: false, ..Default::default() });
         renderer.callback_resources.insert(SceneRenderer::new(&gpu.device, &gpu.queue, Some(COLOR_FORMAT)));
         let ctx = egui::Context::default();
         ctx.all_styles_mut(|s| {
             s.animation_time = 0.0;
             s.visuals.text_cursor.blink = false;
         });
+        crate::ui::adapt_to_adapter(&ctx, &gpu.adapter);
         UiRenderer { ctx, renderer }
     }
 
@@ -175,6 +176,9 @@ impl UiRenderer {
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        // The window clears to the panels' colour (they are not filled); so does this.
+        let [r, g, b, _] = self.ctx.global_style().visuals.panel_fill.to_normalized_gamma_f32().map(f64::from);
+        let clear = wgpu::Color { r, g, b, a: 1.0 };
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("ui") });
         let extra = self.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &desc);
         {
@@ -185,7 +189,7 @@ impl UiRenderer {
                         view: &view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
                     })],
                     depth_stencil_attachment: None,
                     timestamp_writes: None,

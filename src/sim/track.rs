@@ -282,9 +282,10 @@ impl Track {
         a.phase_at(t).or_else(|| a.phases.last().map(|p| p.phase))
     }
 
-    /// The inflection time, if the run has shown one by now.
+    /// The inflection time, once what has arrived shows the retrograde turn (an inflection
+    /// followed by a quarter turn backwards; before that it may still be a wobble).
     pub fn inflection_time(&self) -> Option<f64> {
-        self.analysis.as_ref().and_then(|a| a.inflection_time)
+        self.analysis.as_ref().filter(|a| a.retrograde_turn).and_then(|a| a.inflection_time)
     }
 
     /// Lift-off intervals up to `t` (exact once the run has ended, else from the states).

@@ -376,15 +376,19 @@ impl RinglabApp {
         }
         self.keys(ui.ctx());
 
-        egui::Panel::top("top").show(ui, |ui| self.top_bar_ui(ui));
-        egui::Panel::left("parameters").default_size(300.0).resizable(false).show(ui, |ui| {
+        // Panels leave their background to the window's clear colour (the same grey): on a
+        // software rasteriser every filled pixel of egui costs, and the panels cover the window.
+        let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
+        egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
+        egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.parameters_panel_ui(ui));
         });
-        egui::Panel::bottom("plots").exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
-        egui::Panel::right("traces").default_size(if self.settings.compare { 520.0 } else { 340.0 }).resizable(false).show(ui, |ui| {
+        egui::Panel::bottom("plots").frame(side).exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
+        let traces_width = if self.settings.compare { 520.0 } else { 340.0 };
+        egui::Panel::right("traces").frame(side).default_size(traces_width).resizable(false).show(ui, |ui| {
             self.traces_panel_ui(ui)
         });
-        egui::CentralPanel::default().show(ui, |ui| self.view_panel_ui(ui));
+        egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
 
         if self.is_animating() {
             ui.ctx().request_repaint();
@@ -541,8 +545,22 @@ impl eframe::App for RinglabApp {
         self.ui_root(ui);
     }
 
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        // The panels are not filled (see ui_root): the window's background is theirs.
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+    }
+}
+
+/// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
+/// anti-alias egui's lines and shapes roughly double its triangles, and every triangle is
+/// drawn on the CPU, so they are left out there.
+pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
+    if adapter.device_type == eframe::wgpu::DeviceType::Cpu {
+        ctx.tessellation_options_mut(|t| t.feathering = false);
     }
 }
 
@@ -558,6 +576,7 @@ pub fn run_window() -> Result<(), eframe::Error> {
         Box::new(|cc| {
             if let Some(rs) = &cc.wgpu_render_state {
                 crate::render::callback::install(rs);
+                adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
             }
             let settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
             Ok(Box::new(RinglabApp::new(settings, Mode::Live)))

@@ -9,7 +9,50 @@ use glam::{Vec2, Vec3};
 
 /// States of one path at most (before the extra points where it turns fast); longer tracks
 /// are thinned (every k-th state).
-const MAX_STATES: usize = 8000;
+const MAX_STATES: usize = 3000;
+/// The contact point's path is drawn for the last few precession periods only: over a whole
+/// run it is a tangle of circles the size of the ring (the trace panel can show all of it).
+const CONTACT_TRAIL_PERIODS: f64 = 4.0;
+
+/// Longest run of points one simplified segment may replace (bounds the work on straight
+/// stretches).
+const MAX_RUN: usize = 64;
+
+fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let u = if len2 > 0.0 { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (p[0] - a[0] - u * dx).hypot(p[1] - a[1] - u * dy)
+}
+
+/// The indices of the points of a polyline worth drawing: no dropped point lies farther than
+/// `tol` from the line through the kept ones, and `must(i)` keeps point `i` (where the colour
+/// changes). Every point drawn is triangles for the (software) rasteriser; a smooth arc needs
+/// far fewer of them than the integrator's output spacing gives.
+pub fn simplify(pts: &[[f64; 2]], tol: f64, must: impl Fn(usize) -> bool) -> Vec<usize> {
+    let n = pts.len();
+    if n <= 2 {
+        return (0..n).collect();
+    }
+    let mut keep = vec![0];
+    let mut anchor = 0;
+    let mut i = 1;
+    while i < n {
+        let fits = i == anchor + 1
+            || (i - anchor <= MAX_RUN && (anchor + 1..i).all(|k| dist_to_segment(pts[k], pts[anchor], pts[i]) <= tol));
+        if !fits {
+            keep.push(i - 1);
+            anchor = i - 1;
+            continue;
+        }
+        if i == n - 1 || must(i) {
+            keep.push(i);
+            anchor = i;
+        }
+        i += 1;
+    }
+    keep
+}
 
 pub fn body_geometry(b: &Body) -> BodyGeometry {
     BodyGeometry { r: b.r as f32, h: b.h as f32, w: b.w.min(b.r) as f32 }
@@ -56,15 +99,23 @@ pub fn trace_segments(track: &Track, t: f64, show_contact: bool) -> Vec<TraceSeg
     let v = |p: [f64; 2]| Vec2::new(p[0] as f32, p[1] as f32);
     if show_contact {
         let c = CONTACT_RGB.map(|x| srgb_to_linear(x as f32 / 255.0));
-        let color = [c[0], c[1], c[2], 0.35];
-        for w in path.windows(2) {
-            out.push(TraceSegment::new(v(w[0].p), v(w[1].p), color, 0.01 * r, 0.5));
+        let period = track.start().map_or(f64::INFINITY, |s| std::f64::consts::TAU / s.phi_dot().abs().max(1e-9));
+        let trail = &path[path.partition_point(|q| q.t < t - CONTACT_TRAIL_PERIODS * period)..];
+        let p: Vec<[f64; 2]> = trail.iter().map(|q| q.p).collect();
+        let kept = simplify(&p, 0.002 * r as f64, |_| false);
+        for w in kept.windows(2) {
+            // Fading out towards the start of the trail.
+            let age = ((t - trail[w[0]].t) / (CONTACT_TRAIL_PERIODS * period)).clamp(0.0, 1.0) as f32;
+            out.push(TraceSegment::new(v(p[w[0]]), v(p[w[1]]), [c[0], c[1], c[2], 0.6 * (1.0 - age)], 0.012 * r, 0.6));
         }
     }
     let hw = 0.028 * r;
-    for w in path.windows(2) {
-        let color = phase_linear(track.phase_at(w[0].t), 1.0);
-        out.push(TraceSegment::new(v(w[0].a), v(w[1].a), color, hw, 1.1));
+    let a: Vec<[f64; 2]> = path.iter().map(|q| q.a).collect();
+    let phases: Vec<_> = path.iter().map(|q| track.phase_at(q.t)).collect();
+    let kept = simplify(&a, 0.002 * r as f64, |i| phases[i] != phases[i - 1]);
+    for w in kept.windows(2) {
+        let color = phase_linear(phases[w[0]], 1.0);
+        out.push(TraceSegment::new(v(a[w[0]]), v(a[w[1]]), color, hw, 1.1));
     }
     let dark = [0.02, 0.02, 0.03, 0.9];
     circle(&mut out, v(first.a), 0.12 * r, dark, 0.015 * r);
@@ -104,5 +155,29 @@ pub fn scene_frame(track: &Track, t: f64, camera: &OrbitCamera, follow: bool, sh
         scale: r,
         grid_spacing: nice_step(track.case().model.body.r) as f32,
         focus: Vec3::from(cam.target).truncate(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::simplify;
+
+    #[test]
+    fn simplify_drops_points_on_straight_stretches_and_keeps_corners_and_forced_ones() {
+        let mut pts: Vec<[f64; 2]> = (0..50).map(|k| [k as f64, 0.0]).collect();
+        pts.extend((1..50).map(|k| [49.0, k as f64]));
+        let kept = simplify(&pts, 0.01, |i| i == 10);
+        assert_eq!(kept, vec![0, 10, 49, 98]);
+        let circle: Vec<[f64; 2]> = (0..=360).map(|d| {
+            let a = (d as f64).to_radians();
+            [a.cos(), a.sin()]
+        }).collect();
+        let kept = simplify(&circle, 1e-3, |_| false);
+        assert!(kept.len() > 10 && kept.len() < 100, "{} points kept", kept.len());
+        for w in kept.windows(2) {
+            for k in w[0]..w[1] {
+                assert!(super::dist_to_segment(circle[k], circle[w[0]], circle[w[1]]) <= 1e-3);
+            }
+        }
     }
 }

@@ -3,14 +3,15 @@
 //! scale bar.
 
 use super::palette::{CONTACT_RGB, phase_color};
+use super::scene::simplify;
 use crate::physics::Units;
 use crate::render::nice_step;
 use crate::sim::Track;
 use eframe::egui::{self, Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
-/// Points of one path at most; longer ones are thinned.
-const MAX_POINTS: usize = 5000;
-const PAPER: Color32 = Color32::from_rgb(250, 248, 242);
+/// States of one path at most (the panel is a few hundred pixels wide, and every point is
+/// triangles to draw); longer tracks are thinned.
+const MAX_POINTS: usize = 3000;
 const INK: Color32 = Color32::from_rgb(30, 30, 36);
 
 /// The table region a panel shows, in table coordinates.
@@ -84,8 +85,29 @@ pub fn length_label(len: f64, units: &Units) -> String {
     }
 }
 
+/// A length with three significant digits at most, without trailing zeros.
 fn fmt_len(x: f64) -> String {
-    if x >= 10.0 || x.fract() == 0.0 { format!("{x:.0}") } else { format!("{x}") }
+    if x >= 100.0 || x.fract() == 0.0 {
+        return format!("{x:.0}");
+    }
+    let decimals = (2 - x.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    let s = format!("{x:.decimals$}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_len;
+
+    #[test]
+    fn lengths_read_well() {
+        assert_eq!(fmt_len(4.032), "4.03");
+        assert_eq!(fmt_len(0.2), "0.2");
+        assert_eq!(fmt_len(40.32), "40.3");
+        assert_eq!(fmt_len(200.0), "200");
+        assert_eq!(fmt_len(0.05), "0.05");
+    }
 }
 
 /// Draws the panel for `track` at its time `t`, filling the space given. `bounds`: the region
@@ -94,7 +116,7 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
     let size = ui.available_size().max(Vec2::splat(60.0));
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 4.0, PAPER);
+    // No fill: the panel's own background shows (filled pixels cost on a software rasteriser).
     painter.rect_stroke(rect, 4.0, Stroke::new(1.0, Color32::from_gray(170)), egui::StrokeKind::Inside);
     let font = FontId::proportional(12.0);
     painter.text(rect.left_top() + Vec2::new(8.0, 6.0), Align2::LEFT_TOP, title, FontId::proportional(13.0), INK);
@@ -127,25 +149,32 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
 
     let path = track.path_until(t, MAX_POINTS);
     let scr = |p: [f64; 2]| map.to_screen(p[0], p[1]);
+    // Half a pixel of error is invisible; most output states are not needed to draw the arcs.
+    let tol = 0.5 / map.px_per_unit;
     if show_contact && path.len() > 1 {
         let c = Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]).gamma_multiply(0.45);
-        painter.add(Shape::line(path.iter().map(|q| scr(q.p)).collect(), Stroke::new(0.8, c)));
+        let p: Vec<[f64; 2]> = path.iter().map(|q| q.p).collect();
+        let kept = simplify(&p, tol, |_| false);
+        painter.add(Shape::line(kept.iter().map(|&i| scr(p[i])).collect(), Stroke::new(1.0, c)));
     }
     // The path of A in runs of one colour (one phase).
+    let a: Vec<[f64; 2]> = path.iter().map(|q| q.a).collect();
+    let phases: Vec<_> = path.iter().map(|q| track.phase_at(q.t)).collect();
+    let kept = simplify(&a, tol, |i| phases[i] != phases[i - 1]);
     let mut run: Vec<Pos2> = Vec::new();
     let mut run_phase = None;
-    for (k, q) in path.iter().enumerate() {
-        let phase = track.phase_at(q.t);
-        let p = scr(q.a);
+    for (k, &i) in kept.iter().enumerate() {
+        let phase = phases[i];
+        let p = scr(a[i]);
         if k > 0 && phase != run_phase && !run.is_empty() {
             run.push(p);
-            painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.6, phase_color(run_phase))));
+            painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.8, phase_color(run_phase))));
         }
         run_phase = phase;
         run.push(p);
     }
     if run.len() > 1 {
-        painter.add(Shape::line(run, Stroke::new(1.6, phase_color(run_phase))));
+        painter.add(Shape::line(run, Stroke::new(1.8, phase_color(run_phase))));
     }
 
     if let Some(first) = path.first() {
