@@ -22,11 +22,23 @@ fn options(width: u32, height: u32) -> SnapshotOptions {
     SnapshotOptions::new().threshold(1.0).max_failed_pixels(pixels / 2000)
 }
 
-/// A wgpu test renderer with the scene renderer installed, as the window has it.
-fn renderer() -> WgpuTestRenderer {
+/// A harness builder drawing through wgpu with the scene renderer installed and egui set up
+/// for the adapter, as the window has them.
+fn builder(width: u32, height: u32) -> egui_kittest::HarnessBuilder {
     let rs = egui_kittest::wgpu::create_render_state(egui_kittest::wgpu::default_wgpu_setup(), egui_wgpu::RendererOptions::PREDICTABLE);
     ringlab::render::callback::install(&rs);
-    WgpuTestRenderer::from_render_state(rs)
+    let adapter = rs.adapter.get_info();
+    Harness::builder()
+        .with_size([width as f32, height as f32])
+        .with_context_setup(move |ctx| ringlab::ui::adapt_to_adapter(ctx, &adapter))
+        .renderer(WgpuTestRenderer::from_render_state(rs))
+}
+
+/// The window's background: the app leaves it to the clear colour (its panels are not
+/// filled), and the test renderer clears to transparent.
+fn background(ui: &mut eframe::egui::Ui) {
+    let fill = ui.visuals().panel_fill;
+    ui.painter().rect_filled(ui.max_rect(), 0.0, fill);
 }
 
 fn paper_track(name: &str) -> Track {
@@ -41,10 +53,10 @@ fn seconds(t: f64) -> f64 {
 fn app_snapshot(name: &str, settings: Settings, t: f64) {
     let (w, h) = (1480u32, 920u32);
     let mut app = RinglabApp::new(settings, Mode::Fixed { seconds: seconds(t) });
-    let mut harness = Harness::builder()
-        .with_size([w as f32, h as f32])
-        .renderer(renderer())
-        .build_ui(|ui| app.ui_root(ui));
+    let mut harness = builder(w, h).build_ui(|ui| {
+        background(ui);
+        app.ui_root(ui)
+    });
     harness.run_steps(3);
     harness.snapshot_options(name, &options(w, h));
 }
@@ -77,8 +89,9 @@ fn trace_panel_paper_ring() {
     let track = paper_track("paper-ring");
     let (w, h) = (560u32, 480u32);
     let t = track.end().expect("ended").t_end;
-    let mut harness = Harness::builder().with_size([w as f32, h as f32]).renderer(renderer()).build_ui(|ui| {
-        eframe::egui::CentralPanel::default().show(ui, |ui| {
+    let mut harness = builder(w, h).build_ui(|ui| {
+        background(ui);
+        eframe::egui::CentralPanel::default().frame(eframe::egui::Frame::new().inner_margin(8)).show(ui, |ui| {
             trace_panel::trace_panel_ui(ui, "path of A from above: paper-ring", &track, t, true, None);
         });
     });
