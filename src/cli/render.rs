@@ -40,8 +40,8 @@ pub struct RenderArgs {
     /// A second preset side by side on the same clock (ring vs disk: --compare paper-disk-drag)
     #[arg(long, value_name = "PRESET")]
     pub compare: Option<String>,
-    /// Fixed camera as YAW,PITCH,DISTANCE (radians, radians, outer radii) looking at the start;
-    /// default: the app's view, following the body
+    /// Fixed camera as YAW,PITCH,DISTANCE (radians, radians, outer radii) looking at the
+    /// middle of the path so far; default: the app's view, following the body
     #[arg(long, value_name = "YAW,PITCH,DIST")]
     pub camera: Option<String>,
     /// Leave out the contact point's path
@@ -130,6 +130,8 @@ fn view_name(v: View) -> &'static str {
 
 fn egui_top_ui(ui: &mut eframe::egui::Ui, tracks: &[(String, Track)], seconds: f64, contact: bool, bounds: Option<trace_panel::Bounds>) {
     use eframe::egui;
+    // The app's theme (the panel's colours assume it); the first pass already uses it.
+    ui.ctx().set_theme(egui::Theme::Light);
     egui::CentralPanel::default().show(ui, |ui| {
         let n = tracks.len().max(1) as f32;
         let w = (ui.available_width() - 6.0 * (n - 1.0)) / n;
@@ -161,8 +163,16 @@ fn render_3d(gpu: &Gpu, cases: &[Case], seconds: f64, size: [u32; 2], args: &Ren
         let track = Track::compute(case.clone());
         let t = seconds / case.units.time_s;
         let mut cam = camera;
-        if let (false, Some(start)) = (follow, track.samples().first()) {
-            cam.target = [start.x_c() as f32, start.y_c() as f32, 0.0];
+        if !follow {
+            let path = track.samples_until(t);
+            if let Some(first) = path.first() {
+                let (mut lo, mut hi) = ([first.x_a, first.y_a], [first.x_a, first.y_a]);
+                for s in path {
+                    lo = [lo[0].min(s.x_a), lo[1].min(s.y_a)];
+                    hi = [hi[0].max(s.x_a), hi[1].max(s.y_a)];
+                }
+                cam.target = [(0.5 * (lo[0] + hi[0])) as f32, (0.5 * (lo[1] + hi[1])) as f32, 0.0];
+            }
         }
         let frame = scene::scene_frame(&track, t, &cam, follow, !args.no_contact, BODY_LINEAR[i % 2]);
         let img = gpu.render_scene(&mut renderer, &frame, [w.max(1), size[1]])?;

@@ -466,6 +466,10 @@ impl RinglabApp {
         if let Some(e) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(190, 20, 20), e);
         }
+        if self.settings.show_why {
+            ui.separator();
+            teach::why_note_ui(ui);
+        }
         self.apply_change(change);
     }
 
@@ -527,10 +531,6 @@ impl RinglabApp {
             egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(4.0).inner_margin(6.0).show(&mut child, |ui| {
                 ui.set_max_width(area.width().min(460.0));
                 teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
-                if self.settings.show_why && i == 0 {
-                    ui.separator();
-                    teach::why_note_ui(ui);
-                }
             });
         }
         if self.restart_pending.is_some() && self.restart_shown.is_none() && self.live {
