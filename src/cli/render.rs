@@ -71,6 +71,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !(args.time.is_finite() && args.time >= 0.0) {
         bail!("--time = {}: must be a time at or after the start (0)", args.time);
     }
+    for (v, flag) in [(args.width, "--width"), (args.height, "--height")] {
+        if !(16..=8192).contains(&v) {
+            bail!("{flag} = {v}: must be between 16 and 8192 pixels");
+        }
+    }
     if args.out.extension().and_then(|e| e.to_str()).map(|e| e.eq_ignore_ascii_case("png")) != Some(true) {
         bail!("--out {}: only PNG pictures are written (name the file .png)", args.out.display());
     }
