@@ -125,7 +125,9 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
     let diffuse = max(dot(n, l), 0.0) * lit;
     let r = reflect(-v, n);
     let env = mix(GROUND * 0.8, SKY * 1.1, smoothstep(-0.25, 0.55, r.z));
-    let spec = pow(max(dot(n, h), 0.0), obj.material.y) * obj.material.z * lit;
+    // Schlick's rational stand-in for pow(x, shininess): no pow per pixel.
+    let nh = max(dot(n, h), 0.0);
+    let spec = nh / (obj.material.y - obj.material.y * nh + nh) * obj.material.z * lit;
     var c = base * (0.35 * hemi + 0.75 * diffuse * SUN) * (1.0 - metal);
     c = c + metal * base * (0.55 * env + 0.45 * diffuse * SUN);
     c = c + spec * SUN;
@@ -185,9 +187,10 @@ fn fs_shade(i: ShadeOut) -> @location(0) vec4<f32> {
         lit = sunlight_taps(i.light.xy, i.light.z);
     }
     let k = (0.45 + 0.6 * g.light_dir.z * lit) / (0.45 + 0.6 * g.light_dir.z) * contact_shade(i.xy);
-    // The target holds sRGB-encoded values: scale them by the encoded factor.
-    let e = srgb_encode(vec3<f32>(k));
-    return vec4<f32>(e, 1.0);
+    // The target holds sRGB-encoded values: scale them by the encoded factor (one channel's
+    // worth of encoding, not three).
+    let e = srgb_encode(vec3<f32>(k, 0.0, 0.0)).x;
+    return vec4<f32>(e, e, e, 1.0);
 }
 
 // ---- shadow map -----------------------------------------------------------------------------

@@ -70,7 +70,8 @@ fn the_channel_is_bounded_and_the_worker_waits_for_the_display() {
         assert!(Instant::now() < deadline, "the worker never settled");
     }
     assert!(h.in_flight() <= CHANNEL_CAPACITY as u64, "{} events in flight", h.in_flight());
-    assert!(h.track.samples().is_empty());
+    // Only the initial state, which the handle knows without the worker.
+    assert_eq!(h.track.samples().len(), 1);
 
     // The display asks for the first 5 time units only: the track stops there (plus the one
     // state beyond), the rest waits in the channel.
@@ -92,7 +93,8 @@ fn restart_replaces_the_run_and_drops_its_stale_states() {
     let first_run = h.run();
     h.restart(disk.clone());
     assert_eq!(h.run(), first_run + 1);
-    assert!(h.track.samples().is_empty(), "the new run starts empty");
+    assert_eq!(h.track.samples().len(), 1, "the new run starts from its initial state alone");
+    assert_eq!(h.track.samples()[0].t, 0.0);
     pump_until(&mut h, f64::INFINITY, |h| h.track.is_finished());
     assert_eq!(h.track.run(), first_run + 1);
     let reference = Track::compute(disk);

@@ -3,7 +3,7 @@
 //! renders read the same target back.
 
 use super::mesh::{self, BodyGeometry, MeshData, Vertex};
-use super::scene::{SceneFrame, TraceSegment};
+use super::scene::{BodyDraw, SceneFrame, TraceSegment};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use std::num::NonZeroU64;
@@ -554,7 +554,7 @@ impl SceneRenderer {
             ],
             contacts,
             background: Vec3::from(BACKGROUND).extend(1.0).to_array(),
-            shade_rect: [centre.x, centre.y, if frame.bodies.is_empty() { 0.0 } else { reach }, 0.0],
+            shade_rect: shade_rect(&frame.bodies, light),
         };
         queue.write_buffer(&self.slots[slot].globals, 0, bytemuck::bytes_of(&globals));
 
@@ -680,6 +680,28 @@ impl SceneRenderer {
     pub fn color_texture(&self, slot: usize) -> Option<&wgpu::Texture> {
         self.slots.get(slot).and_then(|s| s.target.as_ref()).map(|t| &t.color)
     }
+}
+
+/// The square of table that can be in a body's shadow or near its contact: around where the
+/// sun projects the centre of mass, half a side of the body's reach (none without bodies).
+fn shade_rect(bodies: &[BodyDraw], light: Vec3) -> [f32; 4] {
+    let mut lo = glam::Vec2::splat(f32::INFINITY);
+    let mut hi = glam::Vec2::splat(f32::NEG_INFINITY);
+    for b in bodies {
+        let c = b.world_from_ring.w_axis.truncate();
+        // Where the sun's ray through the centre of mass meets the table.
+        let shadow = c.truncate() - light.truncate() * (c.z / light.z.max(0.2));
+        let reach = 1.15 * (b.geometry.r + 0.5 * b.geometry.h);
+        for p in [c.truncate(), shadow] {
+            lo = lo.min(p - reach);
+            hi = hi.max(p + reach);
+        }
+    }
+    if bodies.is_empty() {
+        return [0.0; 4];
+    }
+    let centre = 0.5 * (lo + hi);
+    [centre.x, centre.y, 0.5 * (hi - lo).max_element(), 0.0]
 }
 
 fn trace_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {

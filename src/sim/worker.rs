@@ -83,6 +83,9 @@ pub struct SimHandle {
     sent: Arc<AtomicU64>,
     taken: u64,
     pub track: Track,
+    /// The track of the run before a restart, shown until the new run's first state arrives
+    /// (so that the view does not go blank for a frame).
+    previous: Option<Track>,
 }
 
 impl SimHandle {
@@ -103,6 +106,7 @@ impl SimHandle {
             sent,
             taken: 0,
             track: Track::new(0, case.clone()),
+            previous: None,
         };
         handle.start(case, Start::Initial);
         Ok(handle)
@@ -131,8 +135,27 @@ impl SimHandle {
     }
 
     fn start(&mut self, case: Case, start: Start) {
-        self.track = Track::new(self.run + 1, case.clone());
+        let run = self.run + 1;
+        let old = std::mem::replace(&mut self.track, Track::new(run, case.clone()));
+        if !old.samples().is_empty() {
+            self.previous = Some(old);
+        }
+        // The first state of a fresh run is the initial state itself: shown at once, in the
+        // frame of the change, without waiting for the worker (its copy is then skipped).
+        if start == Start::Initial && case.initial.validate().is_ok() {
+            let first = Sample::new(&case.model, 0.0, &case.initial.to_state());
+            self.track.apply(Event::Started { run, start: first });
+            self.track.apply(Event::State { run, sample: first });
+        }
         self.send(case, start);
+    }
+
+    /// The track to show: the current run's, or until it has a state, the one before it.
+    pub fn shown(&self) -> &Track {
+        match &self.previous {
+            Some(p) if self.track.samples().is_empty() => p,
+            _ => &self.track,
+        }
     }
 
     fn send(&mut self, case: Case, start: Start) {
@@ -150,6 +173,9 @@ impl SimHandle {
     pub fn pump(&mut self, until: f64) -> usize {
         let Some(rx) = &self.events else { return 0 };
         let mut taken = 0;
+        if !self.track.samples().is_empty() {
+            self.previous = None;
+        }
         while self.track.last_time().is_none_or(|t| t < until) && !self.track.is_finished() {
             match rx.try_recv() {
                 Ok(ev) => {

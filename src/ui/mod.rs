@@ -97,7 +97,7 @@ impl Run {
 
     fn track(&self) -> &Track {
         match &self.source {
-            Source::Live(h) => &h.track,
+            Source::Live(h) => h.shown(),
             Source::Fixed(t) => t,
         }
     }
@@ -314,6 +314,37 @@ impl RinglabApp {
 
     /// Advances the clock by the wall time since the last frame and takes in the states the
     /// display needs. Never waits for the integrator.
+    /// Takes in, without waiting, the states the display needs up to `seconds` (and one
+    /// beyond, to blend towards).
+    fn pump_live(&mut self, seconds: f64) {
+        for r in &mut self.runs {
+            let ts = r.time_s();
+            if let Source::Live(h) = &mut r.source {
+                let dt = h.track.case().dt;
+                h.pump(seconds / ts + 2.0 * dt);
+            }
+        }
+    }
+
+    /// Notes when the runs asked for by the last change first have a state to show.
+    fn note_arrival(&mut self, now: Instant) {
+        if let Some((_, ids)) = &self.restart_pending {
+            let arrived = self.runs.iter().zip(ids).all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
+            if arrived && self.restart_shown.is_none() {
+                self.restart_shown = Some(now);
+            }
+        }
+    }
+
+    /// Takes in what the worker has sent since the frame began, so that a change made in the
+    /// side panel shows in this same frame.
+    fn pump_now(&mut self) {
+        self.pump_live(self.player.seconds());
+        self.note_arrival(Instant::now());
+    }
+
+    /// Advances the clock by the wall time since the last frame and takes in the states the
+    /// display needs. Never waits for the integrator.
     pub fn tick(&mut self, now: Instant) {
         // The previous frame showed the restarted run; it has been painted by now.
         if self.restart_shown.take().is_some() {
@@ -325,26 +356,16 @@ impl RinglabApp {
         self.last_tick = Some(now);
         self.player.set_speed(self.settings.speed);
         let next = self.player.seconds() + if self.player.is_playing() { wall * self.player.speed() } else { 0.0 };
-        let mut available = f64::INFINITY;
-        for r in &mut self.runs {
-            let ts = r.time_s();
-            if let Source::Live(h) = &mut r.source {
-                let dt = h.track.case().dt;
-                h.pump(next / ts + 2.0 * dt);
-            }
-            let t = r.track();
-            if !t.is_finished() {
-                available = available.min(t.last_time().unwrap_or(0.0) * ts);
-            }
-        }
+        self.pump_live(next);
+        let available = self
+            .runs
+            .iter()
+            .filter(|r| !r.track().is_finished())
+            .map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s())
+            .fold(f64::INFINITY, f64::min);
         let end = self.end_seconds();
         self.player.advance(wall, available, end);
-        if let Some((_, ids)) = &self.restart_pending {
-            let arrived = self.runs.iter().zip(ids).all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
-            if arrived && self.restart_shown.is_none() {
-                self.restart_shown = Some(now);
-            }
-        }
+        self.note_arrival(now);
     }
 
     /// Whether anything still moves (the window keeps repainting while so).
@@ -383,6 +404,9 @@ impl RinglabApp {
         egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.parameters_panel_ui(ui));
         });
+        if self.live {
+            self.pump_now();
+        }
         egui::Panel::bottom("plots").frame(side).exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
         let traces_width = if self.settings.compare { 520.0 } else { 340.0 };
         egui::Panel::right("traces").frame(side).default_size(traces_width).resizable(false).show(ui, |ui| {
