@@ -20,6 +20,10 @@ struct Globals {
     background: vec4<f32>,
     // xy: centre of the square of table that gets shadow and contact shading, z: half side.
     shade_rect: vec4<f32>,
+    // The sunlit table and the background, already sRGB-encoded (the table shader then
+    // encodes one scalar per pixel instead of a colour).
+    table_srgb: vec4<f32>,
+    background_srgb: vec4<f32>,
 };
 
 struct Object {
@@ -137,7 +141,6 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_table(i: MeshOut) -> @location(0) vec4<f32> {
     let xy = i.world.xy;
-    var base = obj.color.rgb;
     // Grid: minor lines every spacing, major every five; minor ones fade out where they would
     // be closer than a few pixels.
     let q = xy / g.table.x;
@@ -147,10 +150,12 @@ fn fs_table(i: MeshOut) -> @location(0) vec4<f32> {
     let fw5 = fw * 0.2;
     let major = abs(fract(q * 0.2 - 0.5) - 0.5) / fw5;
     let major_line = (1.0 - clamp(min(major.x, major.y) * 0.6, 0.0, 1.0)) * (1.0 - smoothstep(0.2, 0.5, max(fw5.x, fw5.y)));
-    base = base * (1.0 - max(0.2 * minor_line, 0.38 * major_line));
+    // Darkening by the lines, applied to the encoded colour (encode(c k) ~ encode(c) encode(k)).
+    let k = 1.0 - max(0.2 * minor_line, 0.38 * major_line);
+    let c = g.table_srgb.rgb * srgb_encode(vec3<f32>(k, 0.0, 0.0)).x;
     // Sunlit everywhere here; the shading pass darkens the shadow and the contacts.
-    let c = fade(xy, base * (0.45 + 0.6 * g.light_dir.z) * SUN);
-    return vec4<f32>(srgb_encode(c), 1.0);
+    let f = smoothstep(0.55 * g.table.y, g.table.y, length(xy - g.fade_center.xy));
+    return vec4<f32>(mix(c, g.background_srgb.rgb, f), 1.0);
 }
 
 // ---- shadow and contact shading of the table, one square around the bodies ----------------

@@ -38,6 +38,8 @@ struct Globals {
     contacts: [[f32; 4]; 2],
     background: [f32; 4],
     shade_rect: [f32; 4],
+    table_srgb: [f32; 4],
+    background_srgb: [f32; 4],
 }
 
 #[repr(C)]
@@ -555,6 +557,12 @@ impl SceneRenderer {
             contacts,
             background: Vec3::from(BACKGROUND).extend(1.0).to_array(),
             shade_rect: shade_rect(&frame.bodies, light),
+            table_srgb: {
+                // As the table shader lit it: ambient plus the sun from its height.
+                let lit = 0.45 + 0.6 * light.z;
+                [srgb_encode(TABLE_COLOR[0] * lit), srgb_encode(TABLE_COLOR[1] * lit * 0.96), srgb_encode(TABLE_COLOR[2] * lit * 0.90), 1.0]
+            },
+            background_srgb: [srgb_encode(BACKGROUND[0]), srgb_encode(BACKGROUND[1]), srgb_encode(BACKGROUND[2]), 1.0],
         };
         queue.write_buffer(&self.slots[slot].globals, 0, bytemuck::bytes_of(&globals));
 
