@@ -577,6 +577,12 @@ impl eframe::App for RinglabApp {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.settings);
     }
+
+    /// egui's own memory (plot zoom and the like) is not worth keeping, and it would bring back
+    /// tessellation options chosen for another adapter.
+    fn persist_egui_memory(&self) -> bool {
+        false
+    }
 }
 
 /// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
