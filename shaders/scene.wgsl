@@ -10,7 +10,7 @@ struct Globals {
     eye: vec4<f32>,
     // xyz: unit vector towards the light.
     light_dir: vec4<f32>,
-    // x: grid spacing, y: fade radius, z: texture tile size, w: scale (outer radius R).
+    // x: grid spacing, y: fade radius, w: scale (outer radius R).
     table: vec4<f32>,
     // xy: centre of the fade, z: shadow-map texel in world units, w: size of a pixel in world
     // units at unit distance from the eye.
@@ -37,8 +37,6 @@ struct Object {
 @group(1) @binding(0) var<uniform> obj: Object;
 @group(2) @binding(0) var shadow_map: texture_depth_2d;
 @group(2) @binding(1) var shadow_sampler: sampler_comparison;
-@group(2) @binding(2) var table_tex: texture_2d<f32>;
-@group(2) @binding(3) var table_sampler: sampler;
 
 const SKY: vec3<f32> = vec3<f32>(0.80, 0.86, 0.95);
 const GROUND: vec3<f32> = vec3<f32>(0.42, 0.34, 0.27);

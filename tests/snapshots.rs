@@ -75,7 +75,7 @@ fn app_ring_vs_disk() {
 #[test]
 fn scene_3d_paper_ring() {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe)");
-    let mut renderer = SceneRenderer::new(&gpu.device, &gpu.queue, None);
+    let mut renderer = SceneRenderer::new(&gpu.device, None);
     let track = paper_track("paper-ring");
     let camera = OrbitCamera::default_for(track.case().model.body.r as f32);
     let frame = scene::scene_frame(&track, 40.0, &camera, true, true, BODY_LINEAR[0]);

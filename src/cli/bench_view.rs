@@ -73,7 +73,7 @@ pub fn run(args: &BenchViewArgs) -> Result<()> {
 
 fn offscreen(frames: usize) -> Result<()> {
     let gpu = Gpu::new()?;
-    let mut renderer = SceneRenderer::new(&gpu.device, &gpu.queue, None);
+    let mut renderer = SceneRenderer::new(&gpu.device, None);
     let track = Track::compute(paper_case()?);
     let camera = OrbitCamera::default_for(track.case().model.body.r as f32);
     let size = [1280, 720];

@@ -159,7 +159,7 @@ fn render_3d(gpu: &Gpu, cases: &[Case], seconds: f64, size: [u32; 2], args: &Ren
         Some(s) => (parse_camera(s, r)?, false),
         None => (OrbitCamera::default_for(r), true),
     };
-    let mut renderer = SceneRenderer::new(&gpu.device, &gpu.queue, None);
+    let mut renderer = SceneRenderer::new(&gpu.device, None);
     let n = cases.len() as u32;
     let gap = if n > 1 { 4 } else { 0 };
     let w = (size[0].saturating_sub(gap * (n - 1))) / n;

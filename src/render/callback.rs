@@ -18,7 +18,7 @@ pub struct SceneCallback {
 /// Puts the scene renderer where the callback finds it; call once with the window's (or the
 /// test harness's) render state.
 pub fn install(render_state: &egui_wgpu::RenderState) {
-    let renderer = SceneRenderer::new(&render_state.device, &render_state.queue, Some(render_state.target_format));
+    let renderer = SceneRenderer::new(&render_state.device, Some(render_state.target_format));
     render_state.renderer.write().callback_resources.insert(renderer);
 }
 

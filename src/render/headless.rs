@@ -1,7 +1,8 @@
 //! Rendering without a window: a device of its own, the scene or a whole egui UI into an
 //! offscreen texture, read back as an RGBA image.
 
-use super::renderer::{COLOR_FORMAT, SceneRenderer};
+use super::pipelines::COLOR_FORMAT;
+use super::renderer::SceneRenderer;
 use eframe::{egui, egui_wgpu};
 use super::scene::SceneFrame;
 use image::RgbaImage;
@@ -129,7 +130,7 @@ pub struct UiRenderer {
 impl UiRenderer {
     pub fn new(gpu: &Gpu) -> UiRenderer {
         let mut renderer = egui_wgpu::Renderer::new(&gpu.device, COLOR_FORMAT, egui_wgpu::RendererOptions { dithering: false, ..Default::default() });
-        renderer.callback_resources.insert(SceneRenderer::new(&gpu.device, &gpu.queue, Some(COLOR_FORMAT)));
+        renderer.callback_resources.insert(SceneRenderer::new(&gpu.device, Some(COLOR_FORMAT)));
         let ctx = egui::Context::default();
         ctx.all_styles_mut(|s| {
             s.animation_time = 0.0;

@@ -7,14 +7,15 @@ pub mod callback;
 pub mod camera;
 pub mod headless;
 pub mod mesh;
+mod pipelines;
 pub mod pose;
 mod renderer;
 pub mod scene;
-mod texture;
 
 pub use camera::{CameraView, OrbitCamera};
 pub use headless::{Gpu, RenderError, UiRenderer};
 pub use mesh::BodyGeometry;
 pub use pose::{BodyPose, world_from_ring};
-pub use renderer::{BACKGROUND, COLOR_FORMAT, SceneRenderer};
+pub use pipelines::COLOR_FORMAT;
+pub use renderer::{BACKGROUND, MAX_VIEWS, SceneRenderer};
 pub use scene::{BodyDraw, SceneFrame, TraceSegment, nice_step};

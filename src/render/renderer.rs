@@ -2,19 +2,14 @@
 //! target, then (inside egui) a copy of that target into the 3D view's rectangle. Headless
 //! renders read the same target back.
 
-use super::mesh::{self, BodyGeometry, MeshData, Vertex};
+use super::mesh::{self, BodyGeometry, MeshData};
+use super::pipelines::{Blit, COLOR_FORMAT, DEPTH_FORMAT, OBJECT_SIZE, Pipelines};
 use super::scene::{BodyDraw, SceneFrame, TraceSegment};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use std::num::NonZeroU64;
 use wgpu::util::DeviceExt;
 
-/// The offscreen colour format: 8-bit, holding the sRGB-encoded values the shaders write (an
-/// sRGB view that encodes on write measured slower on lavapipe than the shaders' own cheap
-/// encoding).
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-const DRAW_FORMAT: wgpu::TextureFormat = COLOR_FORMAT;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const SHADOW_SIZE: u32 = 1024;
 /// Uniform slots per object (table and bodies), 256 bytes apart (the dynamic-offset alignment).
 const OBJECT_STRIDE: u64 = 256;
@@ -81,10 +76,6 @@ struct Target {
     blit_group: Option<wgpu::BindGroup>,
 }
 
-struct Blit {
-    pipeline: wgpu::RenderPipeline,
-    layout: wgpu::BindGroupLayout,
-}
 
 /// What one view needs of its own: several views are prepared before any is drawn, so each
 /// has its own uniforms, traces and target.
@@ -102,14 +93,8 @@ struct Slot {
 pub const MAX_VIEWS: usize = 2;
 
 pub struct SceneRenderer {
-    body_pipeline: wgpu::RenderPipeline,
-    table_pipeline: wgpu::RenderPipeline,
-    trace_pipeline: wgpu::RenderPipeline,
-    shade_pipeline: wgpu::RenderPipeline,
-    shadow_pipeline: wgpu::RenderPipeline,
+    pipes: Pipelines,
     blit: Option<Blit>,
-    globals_layout: wgpu::BindGroupLayout,
-    objects_layout: wgpu::BindGroupLayout,
     textures_group: wgpu::BindGroup,
     shadow_view: wgpu::TextureView,
     table: GpuMesh,
@@ -121,75 +106,11 @@ fn srgb_encode(x: f32) -> f32 {
     if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
 }
 
-fn uniform_entry(binding: u32, dynamic: bool, size: u64, vis: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: vis,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: NonZeroU64::new(size),
-        },
-        count: None,
-    }
-}
-
 impl SceneRenderer {
-    /// Builds the pipelines. `output_format`: the format of the render pass that
+    /// Builds the pipelines and the shadow map. `output_format`: the format of the render pass that
     /// [`SceneRenderer::paint`] draws into (egui's), or None for headless use only.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, output_format: Option<wgpu::TextureFormat>) -> SceneRenderer {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/scene.wgsl").into()),
-        });
-        let both = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
-        let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[uniform_entry(0, false, size_of::<Globals>() as u64, both)],
-        });
-        let objects_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("object"),
-            entries: &[uniform_entry(0, true, 96, both)],
-        });
-        let frag = wgpu::ShaderStages::FRAGMENT;
-        let textures_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene textures"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
-
+    pub fn new(device: &wgpu::Device, output_format: Option<wgpu::TextureFormat>) -> SceneRenderer {
+        let pipes = Pipelines::new(device, size_of::<Globals>() as u64);
         let shadow = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow map"),
             size: wgpu::Extent3d { width: SHADOW_SIZE, height: SHADOW_SIZE, depth_or_array_layers: 1 },
@@ -210,185 +131,18 @@ impl SceneRenderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let table_view = super::texture::table_texture(device, queue);
-        let table_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("table"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
         let textures_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scene textures"),
-            layout: &textures_layout,
+            label: Some("shadow map"),
+            layout: &pipes.textures_layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow_view) },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&table_view) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&table_sampler) },
             ],
         });
-
-        let main_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("scene"),
-            bind_group_layouts: &[Some(&globals_layout), Some(&objects_layout), Some(&textures_layout)],
-            immediate_size: 0,
-        });
-        let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow"),
-            bind_group_layouts: &[Some(&globals_layout), Some(&objects_layout)],
-            immediate_size: 0,
-        });
-
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
-        };
-        let trace_layout = wgpu::VertexBufferLayout {
-            array_stride: size_of::<TraceSegment>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x2],
-        };
-        let depth = |write: bool, bias: wgpu::DepthBiasState| wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(write),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-            stencil: wgpu::StencilState::default(),
-            bias,
-        };
-        let opaque = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let blended = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let mesh_pipeline = |label: &str, fs: &str, cull: Option<wgpu::Face>| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&main_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some("vs_mesh"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
-                },
-                primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
-                depth_stencil: Some(depth(true, wgpu::DepthBiasState::default())),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &opaque,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let body_pipeline = mesh_pipeline("bodies", "fs_body", Some(wgpu::Face::Back));
-        let table_pipeline = mesh_pipeline("table", "fs_table", None);
-        // Traces lie on the table: drawn after it with a depth bias towards the eye, so they
-        // win against the table at any distance yet still hide behind a body.
-        let trace_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("traces"),
-            layout: Some(&main_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_trace"),
-                compilation_options: Default::default(),
-                buffers: &[Some(trace_layout)],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(
-                false,
-                wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 },
-            )),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_trace"),
-                compilation_options: Default::default(),
-                targets: &blended,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        // Shadow and contact shading of the table near the bodies: multiplies what the table
-        // and the traces left (blend: source times destination), before the bodies are drawn.
-        let multiply = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: Some(wgpu::BlendState {
-                color: wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::Dst,
-                    dst_factor: wgpu::BlendFactor::Zero,
-                    operation: wgpu::BlendOperation::Add,
-                },
-                alpha: wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::Zero,
-                    dst_factor: wgpu::BlendFactor::One,
-                    operation: wgpu::BlendOperation::Add,
-                },
-            }),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let shade_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("table shading"),
-            layout: Some(&main_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_shade"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(
-                false,
-                wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 },
-            )),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_shade"),
-                compilation_options: Default::default(),
-                targets: &multiply,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow"),
-            layout: Some(&shadow_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout.clone())],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(true, wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 })),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
-
         let blit = output_format.map(|f| Blit::new(device, f));
         let mut r = SceneRenderer {
-            body_pipeline,
-            table_pipeline,
-            trace_pipeline,
-            shade_pipeline,
-            shadow_pipeline,
+            pipes,
             blit,
-            globals_layout,
-            objects_layout,
             textures_group,
             shadow_view,
             table: GpuMesh::new(device, &mesh::table_mesh(), "table"),
@@ -411,7 +165,7 @@ impl SceneRenderer {
         });
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
-            layout: &self.globals_layout,
+            layout: &self.pipes.globals_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: globals.as_entire_binding() }],
         });
         let objects = device.create_buffer(&wgpu::BufferDescriptor {
@@ -422,13 +176,13 @@ impl SceneRenderer {
         });
         let objects_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("objects"),
-            layout: &self.objects_layout,
+            layout: &self.pipes.objects_layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                     buffer: &objects,
                     offset: 0,
-                    size: NonZeroU64::new(96),
+                    size: NonZeroU64::new(OBJECT_SIZE),
                 }),
             }],
         });
@@ -547,7 +301,7 @@ impl SceneRenderer {
             light_view_proj: light_view_proj.to_cols_array_2d(),
             eye: cam.eye.extend(1.0).to_array(),
             light_dir: light.extend(0.0).to_array(),
-            table: [frame.grid_spacing, fade_radius, 4.0 * scale, scale],
+            table: [frame.grid_spacing, fade_radius, 0.0, scale],
             fade_center: [
                 frame.focus.x,
                 frame.focus.y,
@@ -616,7 +370,7 @@ impl SceneRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_pipeline(&self.pipes.shadow);
             pass.set_bind_group(0, &view.globals_group, &[]);
             for (k, &m) in meshes.iter().enumerate() {
                 let mesh = &self.bodies[m].1;
@@ -649,21 +403,21 @@ impl SceneRenderer {
         });
         pass.set_bind_group(0, &view.globals_group, &[]);
         pass.set_bind_group(2, &self.textures_group, &[]);
-        pass.set_pipeline(&self.table_pipeline);
+        pass.set_pipeline(&self.pipes.table);
         pass.set_bind_group(1, &view.objects_group, &[0]);
         pass.set_vertex_buffer(0, self.table.vertices.slice(..));
         pass.set_index_buffer(self.table.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.table.count, 0, 0..1);
         if trace_count > 0 {
-            pass.set_pipeline(&self.trace_pipeline);
+            pass.set_pipeline(&self.pipes.trace);
             pass.set_vertex_buffer(0, view.traces.slice(..));
             pass.draw(0..6, 0..trace_count);
         }
         if !meshes.is_empty() {
-            pass.set_pipeline(&self.shade_pipeline);
+            pass.set_pipeline(&self.pipes.shade);
             pass.draw(0..6, 0..1);
         }
-        pass.set_pipeline(&self.body_pipeline);
+        pass.set_pipeline(&self.pipes.body);
         for (k, &m) in meshes.iter().enumerate() {
             let mesh = &self.bodies[m].1;
             pass.set_bind_group(1, &view.objects_group, &[(k as u64 + 1) as u32 * OBJECT_STRIDE as u32]);
@@ -719,63 +473,4 @@ fn trace_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
-}
-
-impl Blit {
-    fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Blit {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("blit.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("blit"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("blit"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("blit"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_full"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some(if format.is_srgb() { "fs_decode" } else { "fs_copy" }),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Blit { pipeline, layout }
-    }
-
-    fn group(&self, device: &wgpu::Device, view: &wgpu::TextureView) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("blit"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(view) }],
-        })
-    }
 }
