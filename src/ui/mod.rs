@@ -66,6 +66,7 @@ impl Run {
     fn continue_from(&mut self, case: Case, t: f64) {
         match &mut self.source {
             Source::Live(h) => h.continue_from(case, t),
+            // Fixed mode (tests, pictures) has no present state to go on from: a new run.
             Source::Fixed(tr) => *tr = Track::compute(case),
         }
     }
