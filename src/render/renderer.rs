@@ -372,13 +372,7 @@ impl SceneRenderer {
             });
             pass.set_pipeline(&self.pipes.shadow);
             pass.set_bind_group(0, &view.globals_group, &[]);
-            for (k, &m) in meshes.iter().enumerate() {
-                let mesh = &self.bodies[m].1;
-                pass.set_bind_group(1, &view.objects_group, &[(k as u64 + 1) as u32 * OBJECT_STRIDE as u32]);
-                pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..mesh.count, 0, 0..1);
-            }
+            self.draw_bodies(&mut pass, view, &meshes);
         }
         let bg = BACKGROUND.map(|c| srgb_encode(c) as f64);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -418,6 +412,11 @@ impl SceneRenderer {
             pass.draw(0..6, 0..1);
         }
         pass.set_pipeline(&self.pipes.body);
+        self.draw_bodies(&mut pass, view, &meshes);
+    }
+
+    /// Draws the bodies (objects 1.. of `view`, meshes `meshes`) with the pipeline set.
+    fn draw_bodies(&self, pass: &mut wgpu::RenderPass<'_>, view: &Slot, meshes: &[usize]) {
         for (k, &m) in meshes.iter().enumerate() {
             let mesh = &self.bodies[m].1;
             pass.set_bind_group(1, &view.objects_group, &[(k as u64 + 1) as u32 * OBJECT_STRIDE as u32]);
