@@ -2,10 +2,15 @@
 //! "Terminal retrograde turn of rolling rings".
 //!
 //! Layout: `physics` is the model and its integrator (pure math); `analysis` sweeps, fits and
-//! diagnoses; `config` reads case files; `report` turns runs into JSON and CSV.
+//! diagnoses; `config` reads case files; `report` turns runs into JSON and CSV; `sim` runs the
+//! model on a thread for the live view; `render` draws the scene (wgpu); `ui` is the window
+//! (egui). physics never uses sim, render or ui.
 
 pub mod analysis;
 pub mod config;
 pub mod physics;
 pub mod recording;
+pub mod render;
 pub mod report;
+pub mod sim;
+pub mod ui;

@@ -26,6 +26,10 @@ enum Command {
     Fit(cli::fit::FitArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
+    /// Measure the speed of the visualizer (offscreen, the integrator thread, the window)
+    BenchView(cli::bench_view::BenchViewArgs),
+    /// Draw a picture without a window (the 3D scene, the trace panel or the whole app)
+    Render(cli::render::RenderArgs),
     /// List the presets
     Presets,
     /// List the effects beyond the paper's model, their strengths and realistic ranges
@@ -49,6 +53,8 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
+        Some(Command::Render(a)) => cli::render::run(&a),
+        Some(Command::BenchView(a)) => cli::bench_view::run(&a),
         Some(Command::Presets) => {
             for name in ringlab::config::preset_names() {
                 let f = ringlab::config::load_preset(name)?;
@@ -56,8 +62,6 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
-        None => {
-            anyhow::bail!("the window is not built yet; use a subcommand (ringlab --help)")
-        }
+        None => ringlab::ui::run_window().map_err(|e| anyhow::anyhow!("cannot open the window: {e}")),
     }
 }

@@ -2,10 +2,12 @@
 
 pub mod bench;
 pub mod bench_recording;
+pub mod bench_view;
 pub mod case_args;
 pub mod effect_args;
 pub mod fit;
 pub mod recover;
+pub mod render;
 pub mod simulate;
 pub mod sweep;
 pub mod synth;

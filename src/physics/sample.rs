@@ -63,7 +63,7 @@ impl Sample {
         let (x_a, y_a) = (y[ix::X] - a * ct * sp, y[ix::Y] + a * ct * cp);
         // P = C - (h/2) e2 - R e3; its horizontal offset is (R sin - (h/2) cos) E2'.
         let lever = b.r * st - a * ct;
-        let (x_p, y_p) = (y[ix::X] + lever * sp, y[ix::Y] - lever * cp);
+        let (x_p, y_p) = (y[ix::X] - lever * sp, y[ix::Y] + lever * cp);
         // v_A = v_C + Omega x (h/2) e2, Omega = (w1, w3 tan, w3).
         let om = Vector3::new(y[ix::W1], y[ix::W3] * st / ct, y[ix::W3]);
         let v_a = d.v_c + om.cross(&Vector3::new(0.0, a, 0.0));

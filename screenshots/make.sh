@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Regenerates the README's pictures with `ringlab render` (no window; any Vulkan adapter, e.g.
+# lavapipe). Run from anywhere: bash screenshots/make.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release
+r=target/release/ringlab
+out=screenshots
+# The paper's ring a fifth of the way in: prograde cycloids, the camera following it.
+$r render --preset paper-ring --time 20 --out $out/ring-mid-run.png
+# The retrograde turn: the whole path so far from a fixed camera.
+$r render --preset paper-ring --time 80 --camera=-1.7,1.0,17 --out $out/retrograde-turn.png
+# Ring and disk-like drag side by side on one clock, and their paths from above.
+$r render --preset paper-ring --compare paper-disk-drag --time 40 --camera=-1.7,0.95,14 --out $out/ring-vs-disk.png
+$r render --preset paper-ring --compare paper-disk-drag --time 126 --view top --width 1100 --height 520 --out $out/ring-vs-disk-top.png
+# The whole window at t = 60, with the "why" note open.
+$r render --preset paper-ring --time 60 --view app --width 1480 --height 920 --why --out $out/app.png

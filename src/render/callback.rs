@@ -1,0 +1,55 @@
+//! The 3D view inside egui: a paint callback that renders the scene offscreen while egui
+//! prepares its frame (on egui's encoder) and copies it into the view's rectangle when egui
+//! paints. The [`SceneRenderer`] lives in egui-wgpu's callback resources.
+
+use super::renderer::SceneRenderer;
+use super::scene::SceneFrame;
+use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor};
+use eframe::{egui, wgpu};
+
+pub struct SceneCallback {
+    /// Which of the renderer's views (0, or 1 for the second of two side by side).
+    pub slot: usize,
+    pub frame: SceneFrame,
+    /// The view's rectangle in points.
+    pub rect: egui::Rect,
+}
+
+/// Puts the scene renderer where the callback finds it; call once with the window's (or the
+/// test harness's) render state.
+pub fn install(render_state: &egui_wgpu::RenderState) {
+    let renderer = SceneRenderer::new(&render_state.device, Some(render_state.target_format));
+    render_state.renderer.write().callback_resources.insert(renderer);
+}
+
+/// The paint callback for view `slot` showing `frame` in `rect`.
+pub fn paint_callback(slot: usize, rect: egui::Rect, frame: SceneFrame) -> egui::PaintCallback {
+    egui_wgpu::Callback::new_paint_callback(rect, SceneCallback { slot, frame, rect })
+}
+
+impl CallbackTrait for SceneCallback {
+    fn prepare(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        screen: &ScreenDescriptor,
+        encoder: &mut wgpu::CommandEncoder,
+        resources: &mut CallbackResources,
+    ) -> Vec<wgpu::CommandBuffer> {
+        if let Some(r) = resources.get_mut::<SceneRenderer>() {
+            let ppp = screen.pixels_per_point;
+            let size = [
+                (self.rect.width() * ppp).round().max(1.0) as u32,
+                (self.rect.height() * ppp).round().max(1.0) as u32,
+            ];
+            r.render(device, queue, encoder, self.slot, &self.frame, size);
+        }
+        Vec::new()
+    }
+
+    fn paint(&self, _info: egui::PaintCallbackInfo, pass: &mut wgpu::RenderPass<'static>, resources: &CallbackResources) {
+        if let Some(r) = resources.get::<SceneRenderer>() {
+            r.paint(self.slot, pass);
+        }
+    }
+}

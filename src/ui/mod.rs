@@ -1,0 +1,426 @@
+//! The window: egui panels around the 3D view (functions that draw egui end in `_ui`). The app
+//! holds one run, or two side by side on one clock, each fed by an integrator thread
+//! ([`crate::sim`]) or, for tests and headless pictures, computed at once.
+
+pub mod controls;
+pub mod palette;
+mod panels;
+pub mod plots;
+pub mod scene;
+mod settings;
+pub mod teach;
+pub mod trace_panel;
+pub mod view3d;
+
+pub use settings::{SETTINGS_KEY, Settings};
+
+use crate::config::{Case, load_preset};
+use crate::render::OrbitCamera;
+use crate::sim::{Player, SimHandle, Track};
+use controls::Change;
+use eframe::egui;
+use settings::builtin;
+use std::time::{Duration, Instant};
+
+/// Live (threads, wall clock) or fixed at one time (computed at once, paused: tests, PNGs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mode {
+    Live,
+    Fixed { seconds: f64 },
+}
+
+enum Source {
+    Live(SimHandle),
+    Fixed(Track),
+}
+
+struct Run {
+    source: Source,
+}
+
+impl Run {
+    fn new(case: Case, live: bool) -> Run {
+        if live {
+            if let Ok(h) = SimHandle::spawn(case.clone()) {
+                return Run { source: Source::Live(h) };
+            }
+            // No thread to be had: compute in place instead.
+        }
+        Run { source: Source::Fixed(Track::compute(case)) }
+    }
+
+    fn track(&self) -> &Track {
+        match &self.source {
+            Source::Live(h) => h.shown(),
+            Source::Fixed(t) => t,
+        }
+    }
+
+    fn restart(&mut self, case: Case) {
+        match &mut self.source {
+            Source::Live(h) => h.restart(case),
+            Source::Fixed(t) => *t = Track::compute(case),
+        }
+    }
+
+    fn continue_from(&mut self, case: Case, t: f64) {
+        match &mut self.source {
+            Source::Live(h) => h.continue_from(case, t),
+            // Fixed mode (tests, pictures) has no present state to go on from: a new run.
+            Source::Fixed(tr) => *tr = Track::compute(case),
+        }
+    }
+
+    fn run_id(&self) -> u64 {
+        match &self.source {
+            Source::Live(h) => h.run(),
+            Source::Fixed(t) => t.run(),
+        }
+    }
+
+    fn time_s(&self) -> f64 {
+        self.track().case().units.time_s
+    }
+}
+
+pub struct RinglabApp {
+    pub settings: Settings,
+    runs: Vec<Run>,
+    pub player: Player,
+    camera: OrbitCamera,
+    live: bool,
+    last_tick: Option<Instant>,
+    error: Option<String>,
+    /// A restart waiting for its first state on screen: when it was asked for, and the runs.
+    restart_pending: Option<(Instant, Vec<u64>)>,
+    /// The first frame showing a restarted run was built at this time (latency ends when the
+    /// next frame starts, i.e. after it was painted).
+    restart_shown: Option<Instant>,
+    /// Time from the last parameter change to the first frame that showed its run.
+    pub last_restart_latency: Option<Duration>,
+    style_set: bool,
+}
+
+impl RinglabApp {
+    pub fn new(settings: Settings, mode: Mode) -> RinglabApp {
+        let live = mode == Mode::Live;
+        let mut app = RinglabApp {
+            settings,
+            runs: Vec::new(),
+            player: Player::default(),
+            camera: OrbitCamera::default_for(1.0),
+            live,
+            last_tick: None,
+            error: None,
+            restart_pending: None,
+            restart_shown: None,
+            last_restart_latency: None,
+            style_set: false,
+        };
+        app.player.set_speed(app.settings.speed);
+        app.rebuild_runs();
+        if let Mode::Fixed { seconds } = mode {
+            app.player.pause();
+            app.player.seek(seconds);
+        }
+        app
+    }
+
+    /// The cases of the run(s), or what is wrong with the parameters.
+    fn cases(&self) -> Result<Vec<Case>, String> {
+        let mut files = vec![(&self.settings.case, "left")];
+        if self.settings.compare {
+            files.push((&self.settings.compare_case, "right"));
+        }
+        files.iter().map(|(f, side)| f.build().map_err(|e| if self.settings.compare { format!("{side}: {e}") } else { e })).collect()
+    }
+
+    /// Starts the run(s) afresh (new threads), the clock at zero.
+    fn rebuild_runs(&mut self) {
+        let cases = match self.cases() {
+            Ok(c) => c,
+            Err(e) => {
+                // Stored settings that no longer build: back to the defaults.
+                self.error = Some(format!("{e} (the parameters were reset)"));
+                self.settings = Settings { speed: self.settings.speed, ..Settings::default() };
+                self.cases().unwrap_or_default()
+            }
+        };
+        let scale = cases.first().map(|c| c.model.body.r as f32).unwrap_or(1.0);
+        self.camera = OrbitCamera::default_for(scale);
+        self.runs = cases.into_iter().map(|c| Run::new(c, self.live)).collect();
+        self.player.reset();
+        self.note_restart();
+    }
+
+    fn note_restart(&mut self) {
+        self.restart_pending = Some((Instant::now(), self.runs.iter().map(|r| r.run_id()).collect()));
+        self.restart_shown = None;
+    }
+
+    /// Applies a change of the parameters: a restart from the initial state, or with
+    /// `continue_on_change` and a change of drag alone, a continuation from now.
+    pub fn apply_change(&mut self, change: Change) {
+        if change == Change::None {
+            return;
+        }
+        let cases = match self.cases() {
+            Ok(c) => c,
+            Err(e) => {
+                self.error = Some(e);
+                return;
+            }
+        };
+        self.error = None;
+        if cases.len() != self.runs.len() {
+            self.rebuild_runs();
+            return;
+        }
+        let keep = change == Change::Drag && self.settings.continue_on_change;
+        let seconds = self.player.seconds();
+        for (run, case) in self.runs.iter_mut().zip(cases) {
+            if keep {
+                let t = seconds / run.time_s();
+                run.continue_from(case, t);
+            } else {
+                run.restart(case);
+            }
+        }
+        if !keep {
+            self.player.seek(0.0);
+        }
+        self.note_restart();
+    }
+
+    /// Every run back to its start.
+    pub fn reset(&mut self) {
+        if let Ok(cases) = self.cases() {
+            for (run, case) in self.runs.iter_mut().zip(cases) {
+                run.restart(case);
+            }
+        }
+        self.player.reset();
+        self.note_restart();
+    }
+
+    /// Loads a preset into the left (or, `second`, the right) case.
+    pub fn load_preset(&mut self, name: &str, second: bool) {
+        match load_preset(name) {
+            Ok(f) => {
+                if second {
+                    self.settings.compare_preset = name.into();
+                    self.settings.compare_case = f;
+                } else {
+                    self.settings.preset = name.into();
+                    self.settings.case = f;
+                }
+                self.error = None;
+                self.rebuild_runs();
+            }
+            Err(e) => self.error = Some(e.to_string()),
+        }
+    }
+
+    /// The paper's ring and its disk-like drag side by side.
+    pub fn ring_vs_disk(&mut self) {
+        self.settings.compare = true;
+        self.settings.preset = "paper-ring".into();
+        self.settings.case = builtin("paper-ring");
+        self.settings.compare_preset = "paper-disk-drag".into();
+        self.settings.compare_case = builtin("paper-disk-drag");
+        self.rebuild_runs();
+    }
+
+    pub fn set_compare(&mut self, on: bool) {
+        if self.settings.compare != on {
+            self.settings.compare = on;
+            self.settings.edit_second &= on;
+            self.rebuild_runs();
+        }
+    }
+
+    /// The tracks shown (one, or two side by side).
+    pub fn tracks(&self) -> Vec<&Track> {
+        self.runs.iter().map(|r| r.track()).collect()
+    }
+
+    /// The display time of run `i` in its own units.
+    fn run_time(&self, i: usize) -> f64 {
+        self.player.seconds() / self.runs[i].time_s()
+    }
+
+    /// When the motion ends (seconds), once every run has ended.
+    fn end_seconds(&self) -> Option<f64> {
+        let mut end: f64 = 0.0;
+        for r in &self.runs {
+            let t = r.track();
+            if t.failed().is_some() {
+                continue;
+            }
+            end = end.max(t.end()?.t_end * r.time_s());
+        }
+        Some(end)
+    }
+
+    /// How far the scrubber reaches (seconds): the end, or what has arrived so far.
+    fn known_seconds(&self) -> f64 {
+        self.runs.iter().map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s()).fold(0.0, f64::max)
+    }
+
+    /// Advances the clock by the wall time since the last frame and takes in the states the
+    /// display needs. Never waits for the integrator.
+    /// Takes in, without waiting, the states the display needs up to `seconds` (and one
+    /// beyond, to blend towards).
+    fn pump_live(&mut self, seconds: f64) {
+        for r in &mut self.runs {
+            let ts = r.time_s();
+            if let Source::Live(h) = &mut r.source {
+                let dt = h.track.case().dt;
+                h.pump(seconds / ts + 2.0 * dt);
+            }
+        }
+    }
+
+    /// Notes when the runs asked for by the last change first have a state to show.
+    fn note_arrival(&mut self, now: Instant) {
+        if let Some((_, ids)) = &self.restart_pending {
+            let arrived = self.runs.iter().zip(ids).all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
+            if arrived && self.restart_shown.is_none() {
+                self.restart_shown = Some(now);
+            }
+        }
+    }
+
+    /// Takes in what the worker has sent since the frame began, so that a change made in the
+    /// side panel shows in this same frame.
+    fn pump_now(&mut self) {
+        self.pump_live(self.player.seconds());
+        self.note_arrival(Instant::now());
+    }
+
+    /// Advances the clock by the wall time since the last frame and takes in the states the
+    /// display needs. Never waits for the integrator.
+    pub fn tick(&mut self, now: Instant) {
+        // The previous frame showed the restarted run; it has been painted by now.
+        if self.restart_shown.take().is_some() {
+            if let Some((asked, _)) = self.restart_pending.take() {
+                self.last_restart_latency = Some(now.duration_since(asked));
+            }
+        }
+        let wall = self.last_tick.map_or(0.0, |t| now.duration_since(t).as_secs_f64().min(0.1));
+        self.last_tick = Some(now);
+        self.player.set_speed(self.settings.speed);
+        let next = self.player.seconds() + if self.player.is_playing() { wall * self.player.speed() } else { 0.0 };
+        self.pump_live(next);
+        let available = self
+            .runs
+            .iter()
+            .filter(|r| !r.track().is_finished())
+            .map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s())
+            .fold(f64::INFINITY, f64::min);
+        let end = self.end_seconds();
+        self.player.advance(wall, available, end);
+        self.note_arrival(now);
+    }
+
+    /// Whether anything still moves (the window keeps repainting while so).
+    pub fn is_animating(&self) -> bool {
+        self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
+    }
+
+    fn keys(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let (space, r) = ctx.input(|i| (i.key_pressed(egui::Key::Space), i.key_pressed(egui::Key::R)));
+        if space {
+            self.player.toggle();
+        }
+        if r {
+            self.reset();
+        }
+    }
+
+    /// The whole window, one frame.
+    pub fn ui_root(&mut self, ui: &mut egui::Ui) {
+        if !self.style_set {
+            ui.ctx().set_theme(egui::Theme::Light);
+            self.style_set = true;
+        }
+        if self.live {
+            self.tick(Instant::now());
+        }
+        self.keys(ui.ctx());
+
+        // Panels leave their background to the window's clear colour (the same grey): on a
+        // software rasteriser every filled pixel of egui costs, and the panels cover the window.
+        let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
+        egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
+        egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| self.parameters_panel_ui(ui));
+        });
+        if self.live {
+            self.pump_now();
+        }
+        egui::Panel::bottom("plots").frame(side).exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
+        let traces_width = if self.settings.compare { 520.0 } else { 340.0 };
+        egui::Panel::right("traces").frame(side).default_size(traces_width).resizable(false).show(ui, |ui| {
+            self.traces_panel_ui(ui)
+        });
+        egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
+
+        if self.is_animating() {
+            ui.ctx().request_repaint();
+        }
+    }
+}
+
+impl eframe::App for RinglabApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.ui_root(ui);
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        // The panels are not filled (see ui_root): the window's background is theirs.
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+    }
+
+    /// egui's own memory (plot zoom and the like) is not worth keeping, and it would bring back
+    /// tessellation options chosen for another adapter.
+    fn persist_egui_memory(&self) -> bool {
+        false
+    }
+}
+
+/// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
+/// anti-alias egui's lines and shapes roughly double its triangles, and every triangle is
+/// drawn on the CPU, so they are left out there.
+pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
+    if adapter.device_type == eframe::wgpu::DeviceType::Cpu {
+        ctx.tessellation_options_mut(|t| t.feathering = false);
+    }
+}
+
+/// Opens the window (`ringlab` with no arguments).
+pub fn run_window() -> Result<(), eframe::Error> {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default().with_title("ringlab: rolling rings").with_inner_size([1480.0, 920.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "ringlab",
+        options,
+        Box::new(|cc| {
+            if let Some(rs) = &cc.wgpu_render_state {
+                crate::render::callback::install(rs);
+                adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
+            }
+            let settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
+            Ok(Box::new(RinglabApp::new(settings, Mode::Live)))
+        }),
+    )
+}

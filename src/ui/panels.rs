@@ -1,0 +1,155 @@
+//! The window's panels around the 3D view.
+
+use super::controls::{self, UnitLabels};
+use super::palette::BODY_LINEAR;
+use super::{RinglabApp, plots, scene, teach, trace_panel, view3d};
+use crate::config::load_preset;
+use crate::render::OrbitCamera;
+use crate::sim::Track;
+use eframe::egui::{self, RichText};
+
+impl RinglabApp {
+    pub(super) fn top_bar_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label(RichText::new("ringlab").strong().size(16.0));
+            ui.separator();
+            if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
+                self.ring_vs_disk();
+            }
+            let mut compare = self.settings.compare;
+            if ui.checkbox(&mut compare, "side by side").changed() {
+                self.set_compare(compare);
+            }
+            ui.separator();
+            let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+            let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
+            let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
+            let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
+            if act.reset {
+                self.reset();
+            }
+            if act.step {
+                let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
+                self.player.step(dt, self.end_seconds());
+            }
+            if let Some(s) = act.seek {
+                self.player.seek(s);
+            }
+            self.settings.speed = self.player.speed();
+        });
+    }
+
+    pub(super) fn parameters_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let second = self.settings.compare && self.settings.edit_second;
+        if let Some(name) = controls::preset_picker_ui(ui, "preset", &self.settings.preset) {
+            self.load_preset(&name, false);
+        }
+        if self.settings.compare {
+            if let Some(name) = controls::preset_picker_ui(ui, "right preset", &self.settings.compare_preset) {
+                self.load_preset(&name, true);
+            }
+            ui.horizontal(|ui| {
+                ui.label("sliders edit:");
+                ui.radio_value(&mut self.settings.edit_second, false, "left");
+                ui.radio_value(&mut self.settings.edit_second, true, "right");
+            });
+        }
+        let units = self.runs.get(usize::from(second)).map(|r| r.track().case().units);
+        if let Some(u) = &units {
+            let text = if u.is_physical() {
+                "units: mm, s".to_string()
+            } else {
+                format!("units: L = mean radius = {:.2} mm, T = {:.4} s", u.length_mm, u.time_s)
+            };
+            ui.label(RichText::new(text).small());
+        }
+        ui.separator();
+        let (preset, file) = if second {
+            (self.settings.compare_preset.clone(), &mut self.settings.compare_case)
+        } else {
+            (self.settings.preset.clone(), &mut self.settings.case)
+        };
+        let base = load_preset(&preset).unwrap_or_else(|_| file.clone());
+        let change = controls::parameters_ui(ui, file, units.as_ref(), &base);
+        ui.separator();
+        ui.checkbox(&mut self.settings.continue_on_change, "drag changes continue from now")
+            .on_hover_text("off: every change restarts from the initial state");
+        ui.checkbox(&mut self.settings.follow, "camera follows the ring");
+        ui.checkbox(&mut self.settings.show_contact, "show the contact point's path");
+        ui.checkbox(&mut self.settings.show_why, "show why it turns back");
+        if let Some(e) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(190, 20, 20), e);
+        }
+        if self.settings.show_why {
+            ui.separator();
+            teach::why_note_ui(ui);
+        }
+        self.apply_change(change);
+    }
+
+    pub(super) fn plots_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let first_ts = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+        let names = self.run_names();
+        let runs: Vec<plots::PlotRun> = self
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| plots::PlotRun { name: &names[i], track: r.track(), t: self.run_time(i), time_factor: r.time_s() / first_ts })
+            .collect();
+        let label = self.runs.first().map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time)).unwrap_or_default();
+        plots::plots_ui(ui, &runs, &label);
+    }
+
+    fn run_names(&self) -> Vec<String> {
+        let mut v = vec![self.settings.preset.clone()];
+        if self.settings.compare {
+            v.push(self.settings.compare_preset.clone());
+        }
+        v
+    }
+
+    pub(super) fn traces_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let contact = self.settings.show_contact;
+        teach::phase_legend_ui(ui);
+        let names = self.run_names();
+        let bounds = self
+            .runs
+            .iter()
+            .filter_map(|r| trace_panel::Bounds::of(r.track(), contact))
+            .reduce(trace_panel::Bounds::union);
+        let n = self.runs.len().max(1);
+        let w = (ui.available_width() - 6.0 * (n as f32 - 1.0)) / n as f32;
+        let h = ui.available_height();
+        ui.horizontal(|ui| {
+            for i in 0..self.runs.len() {
+                let t = self.run_time(i);
+                ui.allocate_ui(egui::vec2(w, h), |ui| {
+                    trace_panel::trace_panel_ui(ui, &format!("path of A from above: {}", names[i]), self.runs[i].track(), t, contact, bounds);
+                });
+            }
+        });
+    }
+
+    pub(super) fn view_panel_ui(&mut self, ui: &mut egui::Ui) {
+        let home = OrbitCamera::default_for(self.runs.first().map(|r| r.track().case().model.body.r as f32).unwrap_or(1.0));
+        let times: Vec<f64> = (0..self.runs.len()).map(|i| self.run_time(i)).collect();
+        let (follow, contact) = (self.settings.follow, self.settings.show_contact);
+        let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
+        let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), |i, cam| {
+            scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2])
+        });
+        let names = self.run_names();
+        for (i, rect) in rects.iter().enumerate() {
+            let area = rect.shrink(8.0);
+            let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area).layout(egui::Layout::top_down(egui::Align::Min)));
+            egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(4.0).inner_margin(6.0).show(&mut child, |ui| {
+                ui.set_max_width(area.width().min(460.0));
+                teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
+            });
+        }
+        if self.restart_pending.is_some() && self.restart_shown.is_none() && self.live {
+            // Still waiting: ask for another frame at once.
+            ui.ctx().request_repaint();
+        }
+    }
+}

@@ -1,0 +1,100 @@
+//! Pictures compared with references in `tests/snapshots/` (`UPDATE_SNAPSHOTS=1 cargo test
+//! --release` rewrites the failing ones; see the README). Deterministic: the runs are computed
+//! at once (no thread), shown at a fixed time, from a fixed camera, without MSAA, through the
+//! software adapter (CI forces lavapipe with VK_DRIVER_FILES).
+//!
+//! Tolerance: a pixel fails when its colour differs by more than 1.0 in the weighted YIQ
+//! distance of `dify` (the default is 0.6; lavapipe renders were identical run to run, so
+//! this only leaves room for a different Mesa or LLVM build rounding the shading differently),
+//! and at most 0.05% of the pixels may fail (a handful of edge pixels). A real change (the
+//! ring moved, a trace missing, a label changed) changes thousands of pixels.
+
+use eframe::egui_wgpu;
+use egui_kittest::{Harness, SnapshotOptions, wgpu::WgpuTestRenderer};
+use ringlab::config::load_preset;
+use ringlab::render::{Gpu, OrbitCamera, SceneRenderer};
+use ringlab::sim::Track;
+use ringlab::ui::palette::BODY_LINEAR;
+use ringlab::ui::{Mode, RinglabApp, Settings, scene, trace_panel};
+
+fn options(width: u32, height: u32) -> SnapshotOptions {
+    let pixels = (width * height) as usize;
+    SnapshotOptions::new().threshold(1.0).max_failed_pixels(pixels / 2000)
+}
+
+/// A harness builder drawing through wgpu with the scene renderer installed and egui set up
+/// for the adapter, as the window has them.
+fn builder(width: u32, height: u32) -> egui_kittest::HarnessBuilder {
+    let rs = egui_kittest::wgpu::create_render_state(egui_kittest::wgpu::default_wgpu_setup(), egui_wgpu::RendererOptions::PREDICTABLE);
+    ringlab::render::callback::install(&rs);
+    let adapter = rs.adapter.get_info();
+    Harness::builder()
+        .with_size([width as f32, height as f32])
+        .with_context_setup(move |ctx| ringlab::ui::adapt_to_adapter(ctx, &adapter))
+        .renderer(WgpuTestRenderer::from_render_state(rs))
+}
+
+/// The window's background: the app leaves it to the clear colour (its panels are not
+/// filled), and the test renderer clears to transparent.
+fn background(ui: &mut eframe::egui::Ui) {
+    let fill = ui.visuals().panel_fill;
+    ui.painter().rect_filled(ui.max_rect(), 0.0, fill);
+}
+
+fn paper_track(name: &str) -> Track {
+    Track::compute(load_preset(name).expect("preset").build().expect("builds"))
+}
+
+/// Seconds of the paper's case at model time `t`.
+fn seconds(t: f64) -> f64 {
+    t * load_preset("paper-ring").expect("preset").build().expect("builds").units.time_s
+}
+
+fn app_snapshot(name: &str, settings: Settings, t: f64) {
+    let (w, h) = (1480u32, 920u32);
+    let mut app = RinglabApp::new(settings, Mode::Fixed { seconds: seconds(t) });
+    let mut harness = builder(w, h).build_ui(|ui| {
+        background(ui);
+        app.ui_root(ui)
+    });
+    harness.run_steps(3);
+    harness.snapshot_options(name, &options(w, h));
+}
+
+#[test]
+fn app_paper_ring() {
+    app_snapshot("app_paper_ring", Settings::default(), 60.0);
+}
+
+#[test]
+fn app_ring_vs_disk() {
+    let settings = Settings { compare: true, ..Settings::default() };
+    app_snapshot("app_ring_vs_disk", settings, 60.0);
+}
+
+#[test]
+fn scene_3d_paper_ring() {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe)");
+    let mut renderer = SceneRenderer::new(&gpu.device, None);
+    let track = paper_track("paper-ring");
+    let camera = OrbitCamera::default_for(track.case().model.body.r as f32);
+    let frame = scene::scene_frame(&track, 40.0, &camera, true, true, BODY_LINEAR[0]);
+    let (w, h) = (640, 360);
+    let img = gpu.render_scene(&mut renderer, &frame, [w, h]).expect("renders");
+    egui_kittest::image_snapshot_options(&img, "scene_3d_paper_ring", &options(w, h));
+}
+
+#[test]
+fn trace_panel_paper_ring() {
+    let track = paper_track("paper-ring");
+    let (w, h) = (560u32, 480u32);
+    let t = track.end().expect("ended").t_end;
+    let mut harness = builder(w, h).build_ui(|ui| {
+        background(ui);
+        eframe::egui::CentralPanel::default().frame(eframe::egui::Frame::new().inner_margin(8)).show(ui, |ui| {
+            trace_panel::trace_panel_ui(ui, "path of A from above: paper-ring", &track, t, true, None);
+        });
+    });
+    harness.run_steps(2);
+    harness.snapshot_options("trace_panel_paper_ring", &options(w, h));
+}
