@@ -1,0 +1,442 @@
+//! A recording in the window, without egui: reading it and recovering its motion, then fitting
+//! the model to it, each as a [`Job`] off the UI thread; what was loaded and fitted; the
+//! recording frame by frame on the display's clock; the cases the simulator adopts.
+//!
+//! The clock: the display counts seconds from the model's start (t = 0). The model starts at
+//! the recording's first inner turning point (reconstructed from the poses on loading, the
+//! fitted start after a fit), so frame `i` is shown at `i / fps - offset`, `offset` the time of
+//! that start from the first stored frame (frames are counted from the first stored one, as
+//! the fit counts them).
+
+use super::file_dialog::{DialogOutcome, pick_recording};
+use super::job::{Job, JobContext, JobLost, Progress};
+use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, fit};
+use crate::config::{BodySection, CaseFile, DragSection, EffectsSection, InitialSection, RunSection, UnitsSection};
+use crate::physics::model::ix;
+use crate::physics::{Body, Initial, Units, paper};
+use crate::recording::recover::{Angles, FrameMotion, RecoverError};
+use crate::recording::{ReadError, Recording, RecoveredMotion, read_recording, recover};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use thiserror::Error;
+
+/// Why a recording could not be opened (the read error names the file and the line).
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum LoadError {
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    #[error("{}: {source}", path.display())]
+    Recover { path: PathBuf, source: RecoverError },
+}
+
+/// A recording read and its motion recovered.
+pub struct LoadedRecording {
+    pub path: PathBuf,
+    pub recording: Arc<Recording>,
+    pub motion: RecoveredMotion,
+}
+
+impl LoadedRecording {
+    /// Reads and recovers (slow for long recordings: run it as a job).
+    pub fn load(path: &Path) -> Result<LoadedRecording, LoadError> {
+        let recording = read_recording(path)?;
+        let motion = recover(&recording).map_err(|source| LoadError::Recover { path: path.to_path_buf(), source })?;
+        Ok(LoadedRecording { path: path.to_path_buf(), recording: Arc::new(recording), motion })
+    }
+
+    /// The file's name, for labels.
+    pub fn name(&self) -> String {
+        self.path.file_name().map_or_else(|| self.path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    }
+
+    pub fn fps(&self) -> f64 {
+        self.motion.fps
+    }
+
+    pub fn frames(&self) -> &[FrameMotion] {
+        &self.motion.frames
+    }
+
+    /// Length of the recording (s).
+    pub fn duration_s(&self) -> f64 {
+        self.motion.frames.len().saturating_sub(1) as f64 / self.motion.fps
+    }
+
+    /// Marks missing over all frames (of four per frame).
+    pub fn marks_missing(&self) -> usize {
+        4 * self.recording.frames.len() - self.recording.mark_count()
+    }
+
+    /// The lower and upper corners of the path of A (mm).
+    pub fn bounds_mm(&self) -> Option<([f64; 2], [f64; 2])> {
+        let mut it = self.motion.frames.iter().filter_map(|f| f.a_mm);
+        let first = it.next()?;
+        Some(it.fold((first, first), |(lo, hi), p| ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])))
+    }
+
+    /// The model's units for this recording (lengths in mean radii, the paper's `g`).
+    pub fn units(&self) -> Units {
+        self.motion.units
+    }
+
+    /// A case file for a model of this recording's body (model units) with drag `c` and
+    /// start `initial`.
+    fn case_file(&self, name: String, description: String, c: [f64; 3], initial: &Initial, t_end: f64) -> Result<CaseFile, String> {
+        let u = self.units();
+        let body: Body = self.motion.body_model().map_err(|e| format!("the recording's body: {e}"))?;
+        let file = CaseFile {
+            name,
+            description,
+            source: self.path.display().to_string(),
+            units: UnitsSection { system: "model".into(), mean_radius_mm: Some(u.length_mm), g: Some(u.g()) },
+            body: BodySection { shape: body.shape.name().into(), outer_radius: body.r, width: body.h, thickness: Some(body.w) },
+            drag: DragSection { c },
+            initial: InitialSection {
+                theta: initial.theta,
+                theta_dot: initial.theta_dot,
+                phi: initial.phi,
+                phi_dot: initial.phi_dot,
+                psi: initial.psi,
+                psi_dot: initial.psi_dot,
+                x: initial.x_c,
+                y: initial.y_c,
+            },
+            run: RunSection { t_end, ..RunSection::default() },
+            effects: EffectsSection::default(),
+        };
+        file.build()?;
+        Ok(file)
+    }
+
+    /// The recording in model time units, with room for a model that runs on past its end.
+    fn t_end_model(&self) -> f64 {
+        (2.0 * self.duration_s() / self.units().time_s).max(RunSection::default().t_end)
+    }
+
+    /// The case to start the model from before any fit: the recording's body, the paper's
+    /// drag (where the fit starts too), and the state reconstructed from the poses at the first
+    /// inner turning point (or the nearest frame that has one). Returns the case and the
+    /// frame it starts at.
+    pub fn start_case(&self) -> Result<(CaseFile, usize), String> {
+        let m = &self.motion;
+        let f0 = m.first_inner_turn.map_or(0, |p| p.at.round().max(0.0) as usize);
+        let found = (0..6)
+            .flat_map(|d| [f0 + d, f0.saturating_sub(d)])
+            .find_map(|j| m.state(j, 4, false).or_else(|| m.turning_point_state(j, false)).map(|y| (j, y)));
+        let Some((j, mut y)) = found else {
+            return Err("no start state could be reconstructed near the first inner turning point".into());
+        };
+        // A turning point: theta' = 0 there (the rates from a few noisy poses say otherwise
+        // by their noise, and at the first frame they are one-sided).
+        y[ix::W1] = 0.0;
+        let name = format!("{}, not fitted", self.name());
+        let description = format!("the recording's body, started at frame {j} from the poses; the paper's drag (not fitted)");
+        let file = self.case_file(name, description, paper::C_RING, &Initial::from_state(&y), self.t_end_model())?;
+        Ok((file, j))
+    }
+
+    /// The case of a fit: the recording's body, the fitted drag and start state.
+    pub fn fitted_case(&self, r: &FitResult) -> Result<CaseFile, String> {
+        let name = format!("{}, fitted", self.name());
+        let description = format!("the model fitted to {}: rms {:.3} px", self.name(), r.rms_px);
+        self.case_file(name, description, r.c, &r.start, self.t_end_model())
+    }
+}
+
+/// A fit done, and the case it gives.
+pub struct Fitted {
+    pub result: FitResult,
+    pub case: CaseFile,
+}
+
+/// What the app should do after [`RecordingSession::poll`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum SessionEvent {
+    /// A recording is loaded: start the model from this case (None: it has no start state;
+    /// the model stays as it was).
+    Loaded(Option<CaseFile>),
+    /// A fit is done: adopt its case.
+    Fitted(CaseFile),
+}
+
+/// Everything about the recording in the window.
+pub struct RecordingSession {
+    /// Jobs on threads (the live window) or at once (tests, pictures).
+    background: bool,
+    loaded: Option<LoadedRecording>,
+    loading: Option<(PathBuf, Job<Result<LoadedRecording, LoadError>>)>,
+    dialog: Option<Job<DialogOutcome>>,
+    fitting: Option<Job<Result<FitResult, FitError>>>,
+    fitted: Option<Fitted>,
+    /// Seconds from the first stored frame to the model's t = 0.
+    offset_s: f64,
+    /// A problem to show until dismissed (a file that could not be read, a failed fit).
+    pub error: Option<String>,
+    /// Something to know that is no error (a cancelled fit, no dialog).
+    pub note: Option<String>,
+}
+
+impl RecordingSession {
+    pub fn new(background: bool) -> RecordingSession {
+        RecordingSession {
+            background,
+            loaded: None,
+            loading: None,
+            dialog: None,
+            fitting: None,
+            fitted: None,
+            offset_s: 0.0,
+            error: None,
+            note: None,
+        }
+    }
+
+    pub fn loaded(&self) -> Option<&LoadedRecording> {
+        self.loaded.as_ref()
+    }
+
+    pub fn fitted(&self) -> Option<&Fitted> {
+        self.fitted.as_ref()
+    }
+
+    /// The file being read, if any.
+    pub fn loading(&self) -> Option<&Path> {
+        self.loading.as_ref().map(|(p, _)| p.as_path())
+    }
+
+    pub fn dialog_open(&self) -> bool {
+        self.dialog.is_some()
+    }
+
+    /// Where the fit is, while one runs.
+    pub fn fit_progress(&self) -> Option<Progress> {
+        self.fitting.as_ref().map(|j| j.progress())
+    }
+
+    pub fn fit_cancelling(&self) -> bool {
+        self.fitting.as_ref().is_some_and(|j| j.is_cancelling())
+    }
+
+    /// Whether anything runs that the window should redraw for.
+    pub fn busy(&self) -> bool {
+        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some()
+    }
+
+    /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
+    pub fn open_dialog(&mut self) {
+        if self.dialog.is_none() {
+            self.note = None;
+            self.dialog = Some(pick_recording(self.background));
+        }
+    }
+
+    /// Starts reading `path` (the dialog's and drag-and-drop's way in). A fit of the previous
+    /// recording is stopped; the previous recording stays until the new one is read.
+    pub fn open(&mut self, path: PathBuf) {
+        self.error = None;
+        self.note = None;
+        let p = path.clone();
+        self.loading = Some((path, Job::start("read-recording", self.background, move |_| LoadedRecording::load(&p))));
+    }
+
+    /// Forgets the recording (a running fit stops).
+    pub fn close(&mut self) {
+        self.loaded = None;
+        self.fitted = None;
+        self.fitting = None;
+        self.loading = None;
+        self.note = None;
+        self.offset_s = 0.0;
+    }
+
+    /// Starts a fit of the loaded recording (none while one runs).
+    pub fn start_fit(&mut self) {
+        let Some(l) = &self.loaded else { return };
+        if self.fitting.is_some() {
+            return;
+        }
+        self.note = None;
+        let rec = Arc::clone(&l.recording);
+        let background = self.background;
+        self.fitting = Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
+    }
+
+    /// Asks a running fit to stop.
+    pub fn cancel_fit(&mut self) {
+        if let Some(j) = &self.fitting {
+            j.cancel();
+        }
+    }
+
+    /// Takes in what the jobs have finished, without waiting; says what the app should adopt.
+    pub fn poll(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        if let Some(outcome) = self.dialog.as_mut().and_then(|j| j.poll()) {
+            self.dialog = None;
+            match outcome {
+                Ok(DialogOutcome::Picked(p)) => self.open(p),
+                Ok(DialogOutcome::Cancelled) => {}
+                Ok(DialogOutcome::Unavailable(why)) => self.note = Some(why),
+                Err(JobLost) => self.note = Some("the file dialog failed: drop the .csv file onto the window instead".into()),
+            }
+        }
+        if let Some(done) = self.loading.as_mut().and_then(|(_, j)| j.poll()) {
+            let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
+            match done {
+                Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
+                Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
+                Err(JobLost) => self.error = Some(format!("Could not open the recording {}: reading it failed unexpectedly", path.display())),
+            }
+        }
+        if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
+            self.fitting = None;
+            match done {
+                Ok(Ok(r)) => events.extend(self.adopt_fit(r)),
+                Ok(Err(FitError::Cancelled)) => self.note = Some("the fit was cancelled".into()),
+                Ok(Err(e)) => self.error = Some(format!("The fit failed: {e}")),
+                Err(JobLost) => self.error = Some("The fit stopped unexpectedly".into()),
+            }
+        }
+        events
+    }
+
+    /// Waits for every job to finish and takes in their results (tests; a caller that must
+    /// have the result now).
+    pub fn wait(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        while self.busy() {
+            self.dialog.iter_mut().for_each(Job::finish);
+            self.loading.iter_mut().for_each(|(_, j)| j.finish());
+            self.fitting.iter_mut().for_each(Job::finish);
+            events.extend(self.poll());
+        }
+        events
+    }
+
+    fn adopt_loaded(&mut self, l: LoadedRecording) -> SessionEvent {
+        self.fitting = None;
+        self.fitted = None;
+        let start = l.start_case();
+        let fps = l.fps();
+        self.loaded = Some(l);
+        match start {
+            Ok((case, frame)) => {
+                self.offset_s = frame as f64 / fps;
+                SessionEvent::Loaded(Some(case))
+            }
+            Err(why) => {
+                self.offset_s = 0.0;
+                self.note = Some(format!("{why}: the model was left as it was"));
+                SessionEvent::Loaded(None)
+            }
+        }
+    }
+
+    fn adopt_fit(&mut self, r: FitResult) -> Option<SessionEvent> {
+        let l = self.loaded.as_ref()?;
+        match l.fitted_case(&r) {
+            Ok(case) => {
+                self.offset_s = r.start_t * r.units.time_s;
+                self.fitted = Some(Fitted { result: r, case: case.clone() });
+                Some(SessionEvent::Fitted(case))
+            }
+            Err(e) => {
+                self.error = Some(format!("The fitted model cannot be run: {e}"));
+                None
+            }
+        }
+    }
+
+    /// The fitted case again (after the sliders moved away from it).
+    pub fn readopt_fit(&mut self) -> Option<SessionEvent> {
+        let f = self.fitted.as_ref()?;
+        self.offset_s = f.result.start_t * f.result.units.time_s;
+        Some(SessionEvent::Fitted(f.case.clone()))
+    }
+
+    /// Seconds from the first stored frame to the model's t = 0.
+    pub fn offset_s(&self) -> f64 {
+        self.offset_s
+    }
+
+    /// The display time (s from the model's start) of frame `i`.
+    pub fn frame_seconds(&self, i: usize) -> Option<f64> {
+        let l = self.loaded.as_ref()?;
+        Some(i as f64 / l.fps() - self.offset_s)
+    }
+
+    /// The display time of the last frame.
+    pub fn end_seconds(&self) -> Option<f64> {
+        let n = self.loaded.as_ref()?.frames().len();
+        self.frame_seconds(n.checked_sub(1)?)
+    }
+
+    /// The frame shown at display time `seconds`: the nearest one; None before the first
+    /// frame, the last one after the end (the ring lies where it stopped).
+    pub fn frame_at(&self, seconds: f64) -> Option<usize> {
+        let l = self.loaded.as_ref()?;
+        let k = ((seconds + self.offset_s) * l.fps()).round();
+        if !(k >= 0.0) {
+            return None;
+        }
+        Some((k as usize).min(l.frames().len().checked_sub(1)?))
+    }
+
+    /// The frames shown up to display time `seconds` (all of them before it).
+    pub fn frames_until(&self, seconds: f64) -> &[FrameMotion] {
+        match (self.loaded.as_ref(), self.frame_at(seconds)) {
+            (Some(l), Some(k)) => &l.frames()[..=k],
+            _ => &[],
+        }
+    }
+
+    /// The pose at display time `seconds` from the nearest frame that has one (within three
+    /// frames): the angles and point A (mm).
+    pub fn pose_at(&self, seconds: f64) -> Option<(Angles, [f64; 2])> {
+        let l = self.loaded.as_ref()?;
+        let k = self.frame_at(seconds)?;
+        let n = l.frames().len();
+        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| {
+            let f = &l.frames()[j];
+            Some((f.angles?, f.a_mm?))
+        })
+    }
+}
+
+/// The stages of a fit as shares of its progress bar (rough shares of the time on the sample).
+const STAGE_SHARES: [(FitStage, f32); 5] =
+    [(FitStage::Recover, 0.03), (FitStage::StartState, 0.07), (FitStage::Sweep, 0.35), (FitStage::Segments, 0.15), (FitStage::Refine, 0.40)];
+
+/// Where a fit is, as a share of the whole and in words.
+pub fn describe_fit_progress(p: &FitProgress) -> Progress {
+    let k = STAGE_SHARES.iter().position(|(s, _)| *s == p.stage).unwrap_or(0);
+    let before: f32 = STAGE_SHARES[..k].iter().map(|s| s.1).sum();
+    let within = if p.total > 0 { (p.done as f32 / p.total as f32).clamp(0.0, 1.0) } else { 0.0 };
+    let mut text = format!("{} ({}/{})", p.stage.describe(), p.done, p.total);
+    if let Some(rms) = p.rms_px {
+        text.push_str(&format!(", misfit {rms:.3} px"));
+    }
+    Progress { fraction: before + STAGE_SHARES[k].1 * within, text }
+}
+
+/// The fit as the window runs it: default options; on its own pool of all cores but one, so
+/// that the window and the integrator keep one.
+fn run_fit(rec: &Recording, ctx: &JobContext, own_pool: bool) -> Result<FitResult, FitError> {
+    // The stages repeat (segments, then least squares per merge): the bar never goes back.
+    let shown = Mutex::new(0.0f32);
+    let progress = |p: &FitProgress| {
+        let mut d = describe_fit_progress(p);
+        if let Ok(mut s) = shown.lock() {
+            *s = s.max(d.fraction);
+            d.fraction = *s;
+        }
+        ctx.report(d);
+    };
+    let opts = FitOptions::default();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
+    let pool = if own_pool { rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok() } else { None };
+    match pool {
+        Some(pool) => pool.install(|| fit(rec, &opts, &progress, ctx.cancel_flag())),
+        None => fit(rec, &opts, &progress, ctx.cancel_flag()),
+    }
+}
