@@ -172,7 +172,10 @@ fn fit_ui(ui: &mut egui::Ui, f: &Fitted, in_use: bool) -> bool {
         let noise = r.noise_px.map(|n| format!(" (noise {n:.3} px)")).unwrap_or_default();
         row(ui, "misfit", format!("{:.3} px rms{noise}", r.rms_px));
         row(ui, "frames fitted", format!("{} in {} segments", r.frames_fitted, r.segments.len()));
-        row(ui, "took", format!("{:.1} s, {} iterations", r.compute_seconds, r.iterations));
+        // The compute time varies from run to run: on hover only (pictures stay the same).
+        ui.label(RichText::new("iterations").small());
+        ui.label(RichText::new(r.iterations.to_string()).small()).on_hover_text(format!("the fit took {:.1} s", r.compute_seconds));
+        ui.end_row();
         row(ui, "units", format!("T = {:.5} s, L = {:.2} mm", r.units.time_s, r.units.length_mm));
     });
     ui.label(
