@@ -147,6 +147,13 @@ fn a_session_reads_on_its_thread() {
     assert_eq!(s.frame_at(1.0), Some(300));
     assert_eq!(s.frame_at(-1.0), None);
     assert_eq!(s.frame_at(1e6), Some(1883), "the last frame after the end");
+    // The pose at a frame is the frame's; between two frames it is blended.
+    let f = |i: usize| s.loaded().unwrap().frames()[i];
+    let (a0, p0) = s.pose_at(0.0).expect("a pose");
+    assert_eq!((a0, p0), (f(0).angles.unwrap(), f(0).a_mm.unwrap()));
+    let (am, pm) = s.pose_at(0.5 / 300.0).expect("a pose");
+    let (a1, p1) = (f(1).angles.unwrap(), f(1).a_mm.unwrap());
+    assert!((am.phi - 0.5 * (a0.phi + a1.phi)).abs() < 1e-9 && (pm[0] - 0.5 * (p0[0] + p1[0])).abs() < 1e-9);
     s.close();
     assert!(s.loaded().is_none());
 }

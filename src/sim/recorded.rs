@@ -390,16 +390,29 @@ impl RecordingSession {
         }
     }
 
-    /// The pose at display time `seconds` from the nearest frame that has one (within three
-    /// frames): the angles and point A (mm).
+    /// The pose at display time `seconds`: the angles and point A (mm) blended linearly
+    /// between the two frames around it where both have a pose on one stretch (the angles are
+    /// continuous there; a frame is up to 1/fps apart from the model's interpolated state, a
+    /// visible turn of a fast ring), else from the nearest frame with a pose (within three).
     pub fn pose_at(&self, seconds: f64) -> Option<(Angles, [f64; 2])> {
         let l = self.loaded.as_ref()?;
         let k = self.frame_at(seconds)?;
-        let n = l.frames().len();
-        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| {
-            let f = &l.frames()[j];
-            Some((f.angles?, f.a_mm?))
-        })
+        let frames = l.frames();
+        let n = frames.len();
+        let pose = |j: usize| frames.get(j).and_then(|f| Some((f.angles?, f.a_mm?, f.stretch)));
+        let at = (seconds + self.offset_s) * l.fps();
+        let i = at.floor();
+        if i >= 0.0
+            && let (Some((a0, p0, s0)), Some((a1, p1, s1))) = (pose(i as usize), pose(i as usize + 1))
+            && s0.is_some()
+            && s0 == s1
+        {
+            let u = at - i;
+            let mix = |x: f64, y: f64| x + (y - x) * u;
+            let angles = Angles { phi: mix(a0.phi, a1.phi), theta: mix(a0.theta, a1.theta), psi: mix(a0.psi, a1.psi) };
+            return Some((angles, [mix(p0[0], p1[0]), mix(p0[1], p1[1])]));
+        }
+        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| pose(j).map(|(a, p, _)| (a, p)))
     }
 }
 

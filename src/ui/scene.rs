@@ -134,7 +134,7 @@ pub fn body_draw(track: &Track, t: f64, color: [f32; 3]) -> Option<BodyDraw> {
     let s = track.state_at(t)?.sample;
     let body = &track.case().model.body;
     let pose = BodyPose::new(&s, body);
-    Some(BodyDraw { geometry: body_geometry(body), world_from_ring: pose.world_from_ring, color, contact: pose.contact })
+    Some(BodyDraw { geometry: body_geometry(body), world_from_ring: pose.world_from_ring, color, contact: pose.contact, yields: false })
 }
 
 /// One view's frame: `track` at `t` seen by `camera`, its target moved to the followed point
@@ -174,6 +174,7 @@ pub fn add_recording(frame: &mut SceneFrame, path: &[[f64; 2]], ring: Option<(&B
             world_from_ring: pose.world_from_ring,
             color: DATA_BODY_LINEAR,
             contact: pose.contact,
+            yields: true,
         });
     }
 }
