@@ -6,6 +6,7 @@
 
 pub mod controls;
 pub mod palette;
+mod app_recording;
 mod panels;
 pub mod plots;
 pub mod recording_panel;
@@ -18,9 +19,9 @@ pub mod view3d;
 
 pub use settings::{SETTINGS_KEY, Settings};
 
-use crate::config::{Case, CaseFile, load_preset};
+use crate::config::{Case, load_preset};
 use crate::render::OrbitCamera;
-use crate::sim::{Player, RecordingSession, SessionEvent, SimHandle, Track};
+use crate::sim::{Player, RecordingSession, SimHandle, Track};
 use controls::Change;
 use eframe::egui;
 use settings::builtin;
@@ -351,72 +352,6 @@ impl RinglabApp {
     /// Whether anything still moves (the window keeps repainting while so).
     pub fn is_animating(&self) -> bool {
         self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
-    }
-
-    /// Opens a recording (the file dialog's and drag-and-drop's way in): read and recovered
-    /// off the UI thread, or at once in fixed mode.
-    pub fn open_recording(&mut self, path: std::path::PathBuf) {
-        self.recording.open(path);
-        self.side_tab = SideTab::Recording;
-        self.take_recording_events();
-    }
-
-    /// Files dropped onto the window this frame: the first is opened.
-    fn take_dropped_files(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<std::path::PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
-        if let Some(first) = dropped.into_iter().next() {
-            self.open_recording(first);
-        }
-    }
-
-    /// Adopts what the recording's jobs finished: the model started from the recording, or
-    /// the fitted model.
-    fn take_recording_events(&mut self) {
-        for ev in self.recording.poll() {
-            match ev {
-                SessionEvent::Loaded(Some(case)) | SessionEvent::Fitted(case) => self.adopt_case(case),
-                SessionEvent::Loaded(None) => self.player.reset(),
-            }
-        }
-    }
-
-    /// Waits for the recording's jobs and adopts their results (tests; pictures).
-    pub fn finish_recording_jobs(&mut self) {
-        for ev in self.recording.wait() {
-            match ev {
-                SessionEvent::Loaded(Some(case)) | SessionEvent::Fitted(case) => self.adopt_case(case),
-                SessionEvent::Loaded(None) => self.player.reset(),
-            }
-        }
-    }
-
-    /// Runs `case` alone (side by side off), from its start.
-    fn adopt_case(&mut self, case: CaseFile) {
-        self.settings.compare = false;
-        self.settings.edit_second = false;
-        self.settings.preset = case.name.clone();
-        self.settings.case = case;
-        self.error = None;
-        self.rebuild_runs();
-    }
-
-    /// Does what the File menu or the Recording tab asked for (also for tests and pictures:
-    /// in fixed mode the work is done when this returns).
-    pub fn act_on_recording(&mut self, action: recording_panel::RecordingAction) {
-        use recording_panel::RecordingAction as A;
-        match action {
-            A::None => {}
-            A::Open => self.recording.open_dialog(),
-            A::Close => self.recording.close(),
-            A::Fit => self.recording.start_fit(),
-            A::CancelFit => self.recording.cancel_fit(),
-            A::UseFit => {
-                if let Some(SessionEvent::Fitted(case)) = self.recording.readopt_fit() {
-                    self.adopt_case(case);
-                }
-            }
-        }
-        self.take_recording_events();
     }
 
     fn keys(&mut self, ctx: &egui::Context) {
