@@ -157,3 +157,22 @@ fn a_session_reads_on_its_thread() {
     s.close();
     assert!(s.loaded().is_none());
 }
+
+/// The File menu: Close recording is there once a recording is (Open recording would start the
+/// desktop's dialog, which kittest cannot drive).
+#[test]
+fn the_file_menu_closes_a_recording() {
+    let mut h = harness();
+    h.run_steps(2);
+    drop_file(&mut h, &common::shared_data("sample-ring.csv"));
+    assert!(h.state().recording.loaded().is_some());
+    h.get_by_label("File").click();
+    h.run_steps(2);
+    assert!(h.query_by_label("Open recording…").is_some());
+    // The menu's item beside the Recording tab's button (both ask for the same action).
+    assert_eq!(h.query_all_by_label("Close recording").count(), 2);
+    h.get_all_by_label("Close recording").last().expect("two of them").click();
+    h.run_steps(2);
+    assert!(h.state().recording.loaded().is_none());
+    assert!(h.query_by_label("No recording loaded.").is_some());
+}

@@ -88,17 +88,18 @@ impl<T: Send + 'static> Job<T> {
     /// The result once it is there (taken: later calls give None), without waiting.
     pub fn poll(&mut self) -> Option<Result<T, JobLost>> {
         if let State::Running(rx) = &self.state {
-            match rx.try_recv() {
-                Ok(v) => self.state = State::Done(Some(v)),
+            self.state = match rx.try_recv() {
+                Ok(v) => State::Done(Some(v)),
                 Err(TryRecvError::Empty) => return None,
-                Err(TryRecvError::Disconnected) => self.state = State::Done(None),
-            }
+                Err(TryRecvError::Disconnected) => State::Done(None),
+            };
         }
         match std::mem::replace(&mut self.state, State::Taken) {
-            State::Done(Some(v)) => Some(Ok(v)),
-            State::Done(None) => Some(Err(JobLost)),
-            State::Taken => None,
-            State::Running(_) => unreachable!("handled above"),
+            State::Done(v) => Some(v.ok_or(JobLost)),
+            other => {
+                self.state = other;
+                None
+            }
         }
     }
 

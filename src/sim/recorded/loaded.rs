@@ -55,14 +55,7 @@ impl LoadedRecording {
 
     /// Marks missing over all frames (of four per frame).
     pub fn marks_missing(&self) -> usize {
-        4 * self.recording.frames.len() - self.recording.mark_count()
-    }
-
-    /// The lower and upper corners of the path of A (mm).
-    pub fn bounds_mm(&self) -> Option<([f64; 2], [f64; 2])> {
-        let mut it = self.motion.frames.iter().filter_map(|f| f.a_mm);
-        let first = it.next()?;
-        Some(it.fold((first, first), |(lo, hi), p| ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])))
+        (4 * self.recording.frames.len()).saturating_sub(self.recording.mark_count())
     }
 
     /// The model's units for this recording (lengths in mean radii, the paper's `g`).
