@@ -15,3 +15,5 @@ $r render --preset paper-ring --compare paper-disk-drag --time 40 --camera=-1.7,
 $r render --preset paper-ring --compare paper-disk-drag --time 126 --view top --width 1100 --height 520 --out $out/ring-vs-disk-top.png
 # The whole window at t = 60, with the "why" note open.
 $r render --preset paper-ring --time 60 --view app --width 1480 --height 920 --why --out $out/app.png
+# The sample recording opened and fitted: data (green) and the fitted model replayed together.
+$r render --view app --width 1480 --height 920 --recording ../shared/data/sample-ring.csv --fit --time 60 --out $out/app-recording-fit.png

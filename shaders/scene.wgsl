@@ -108,6 +108,8 @@ fn vs_mesh(v: MeshIn) -> MeshOut {
     let w = obj.model * vec4<f32>(v.pos, 1.0);
     o.world = w.xyz;
     o.clip = g.view_proj * w;
+    // material.w: a yielding body's depth offset (0 for the others and the table).
+    o.clip.z = o.clip.z + obj.material.w * o.clip.w;
     o.normal = (obj.model * vec4<f32>(v.normal, 0.0)).xyz;
     o.color = v.color;
     return o;

@@ -10,6 +10,7 @@
 //! ring moved, a trace missing, a label changed) changes thousands of pixels.
 
 use eframe::egui_wgpu;
+use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions, wgpu::WgpuTestRenderer};
 use ringlab::config::load_preset;
 use ringlab::render::{Gpu, OrbitCamera, SceneRenderer};
@@ -24,7 +25,7 @@ fn options(width: u32, height: u32) -> SnapshotOptions {
 
 /// A harness builder drawing through wgpu with the scene renderer installed and egui set up
 /// for the adapter, as the window has them.
-fn builder(width: u32, height: u32) -> egui_kittest::HarnessBuilder {
+fn builder<S>(width: u32, height: u32) -> egui_kittest::HarnessBuilder<S> {
     let rs = egui_kittest::wgpu::create_render_state(egui_kittest::wgpu::default_wgpu_setup(), egui_wgpu::RendererOptions::PREDICTABLE);
     ringlab::render::callback::install(&rs);
     let adapter = rs.adapter.get_info();
@@ -70,6 +71,31 @@ fn app_paper_ring() {
 fn app_ring_vs_disk() {
     let settings = Settings { compare: true, ..Settings::default() };
     app_snapshot("app_ring_vs_disk", settings, 60.0);
+}
+
+/// The sample recording opened and fitted (the Fit button, run at once in fixed mode), shown
+/// with the fitted model at t = 40.
+#[test]
+fn app_sample_recording_fitted() {
+    let (w, h) = (1480u32, 920u32);
+    let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 0.0 });
+    app.open_recording(std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/sample-ring.csv"));
+    let mut harness = builder(w, h).build_ui_state(
+        |ui, app: &mut RinglabApp| {
+            background(ui);
+            app.ui_root(ui)
+        },
+        app,
+    );
+    harness.run_steps(2);
+    harness.get_by_label("Fit").click();
+    harness.run_steps(2);
+    let app = harness.state();
+    let fit = &app.recording.fitted().expect("fitted").result;
+    assert_eq!(app.tracks()[0].case().model.c_drag, fit.c, "the simulator runs the fitted drag");
+    harness.state_mut().seek_model_time(40.0);
+    harness.run_steps(3);
+    harness.snapshot_options("app_sample_recording_fitted", &options(w, h));
 }
 
 #[test]

@@ -7,6 +7,7 @@ use ringlab::config::{Case, load_preset};
 use ringlab::render::{Gpu, OrbitCamera, SceneRenderer, UiRenderer};
 use ringlab::sim::Track;
 use ringlab::ui::palette::BODY_LINEAR;
+use ringlab::ui::recording_panel::RecordingAction;
 use ringlab::ui::{Mode, RinglabApp, Settings, scene, trace_panel};
 use std::path::{Path, PathBuf};
 
@@ -50,6 +51,13 @@ pub struct RenderArgs {
     /// Show the "why" note (app view)
     #[arg(long)]
     pub why: bool,
+    /// A recording to open (app view), replayed beside the model started from it; --time is
+    /// then in that model's time unit
+    #[arg(long, value_name = "FILE.csv")]
+    pub recording: Option<PathBuf>,
+    /// Fit the model to --recording first (the window's Fit button)
+    #[arg(long, requires = "recording")]
+    pub fit: bool,
     /// Output PNG file
     #[arg(long, value_name = "FILE.png")]
     pub out: PathBuf,
@@ -116,12 +124,33 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 settings.compare_case = f.clone();
             }
             let mut app = RinglabApp::new(settings, Mode::Fixed { seconds });
+            if let Some(path) = &args.recording {
+                open_recording(&mut app, path, args.fit)?;
+                app.seek_model_time(args.time);
+            }
             let mut ui_renderer = UiRenderer::new(&gpu);
             ui_renderer.render(&gpu, size, 3, |ui| app.ui_root(ui))?
         }
     };
     save_png(&image, &args.out)?;
     println!("wrote {} ({}x{}, {} at t = {}, {})", args.out.display(), size[0], size[1], view_name(args.view), args.time, gpu.adapter.name);
+    Ok(())
+}
+
+/// Opens `path` in the app (and fits it), as the window's menu and Fit button do.
+fn open_recording(app: &mut RinglabApp, path: &Path, fit: bool) -> Result<()> {
+    app.open_recording(path.to_path_buf());
+    app.finish_recording_jobs();
+    if let Some(e) = app.recording.error.take() {
+        bail!("{e}");
+    }
+    if fit {
+        app.act_on_recording(RecordingAction::Fit);
+        app.finish_recording_jobs();
+        if let Some(e) = app.recording.error.take() {
+            bail!("{e}");
+        }
+    }
     Ok(())
 }
 

@@ -44,6 +44,27 @@ impl BodyPose {
     }
 }
 
+impl BodyPose {
+    /// A body rolling on the table with point A over `a` (table) and Euler angles `phi, theta,
+    /// psi`: where a recording puts its ring (no state vector, no dynamics).
+    pub fn on_table(phi: f64, theta: f64, psi: f64, a: [f64; 2], body: &Body) -> BodyPose {
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        let half = 0.5 * body.h;
+        // C = A - (h/2) e2; P = C - (h/2) e2 - R e3 lies on the table (as in `Sample`).
+        let c = DVec3::new(a[0] + half * ct * sp, a[1] - half * ct * cp, half * st + body.r * ct);
+        let lever = body.r * st - half * ct;
+        let world_from_ring = world_from_ring(phi, theta, psi, c);
+        let point_a = world_from_ring.transform_point3(Vec3::new(0.0, half as f32, 0.0));
+        BodyPose {
+            world_from_ring,
+            contact: Vec2::new((c.x - lever * sp) as f32, (c.y + lever * cp) as f32),
+            point_a,
+            center: c.as_vec3(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -69,6 +90,10 @@ mod tests {
             assert!(p.z.abs() < 1e-5, "contact at z = {} (t = {})", p.z, s.t);
             assert!((p.truncate() - pose.contact).length() < 1e-4);
             assert!((pose.point_a.x - s.x_a as f32).abs() < 1e-4 && (pose.point_a.y - s.y_a as f32).abs() < 1e-4);
+            // From the angles and A alone, as a recording gives them: the same pose.
+            let from_a = BodyPose::on_table(s.phi(), s.theta(), s.psi(), [s.x_a, s.y_a], b);
+            assert!(from_a.world_from_ring.abs_diff_eq(pose.world_from_ring, 1e-4), "t = {}", s.t);
+            assert!((from_a.contact - pose.contact).length() < 1e-4);
             // Every point of the lower rim stays on or above the table.
             for k in 0..16 {
                 let a = k as f32 * std::f32::consts::TAU / 16.0;

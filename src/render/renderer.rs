@@ -17,6 +17,10 @@ const MAX_OBJECTS: usize = 8;
 /// Linear RGB of the space beyond the table.
 pub const BACKGROUND: [f32; 3] = [0.62, 0.68, 0.76];
 const TABLE_COLOR: [f32; 3] = [0.56, 0.40, 0.25];
+/// Depth pushed back (clip-space z per w) for a body that yields: about 1% of the body's
+/// radius at the default camera distance (near plane at 2% of it), invisible except where
+/// two bodies' surfaces would otherwise fight.
+const YIELD_DEPTH: f32 = 2e-5;
 /// Direction towards the light (normalised in use): high, from behind on the left, so that
 /// the default camera (in front) sees the shadow fall towards it.
 const LIGHT_DIR: [f32; 3] = [-0.55, 0.45, 0.8];
@@ -335,7 +339,7 @@ impl SceneRenderer {
             objects.push(ObjectUniform {
                 model: b.world_from_ring.to_cols_array_2d(),
                 color: Vec4::from((Vec3::from(b.color), 1.0)).to_array(),
-                material: [0.85, 60.0, 0.6, 0.0],
+                material: [0.85, 60.0, 0.6, if b.yields { YIELD_DEPTH } else { 0.0 }],
                 _pad: [0.0; 40],
             });
         }

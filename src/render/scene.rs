@@ -14,6 +14,10 @@ pub struct BodyDraw {
     pub color: [f32; 3],
     /// The contact point, for the contact shading of the table.
     pub contact: Vec2,
+    /// Drawn behind the other bodies where their surfaces (nearly) coincide: a recording's
+    /// ring under the model's when the two agree, instead of the two flickering through
+    /// each other.
+    pub yields: bool,
 }
 
 /// One straight piece of a trace on the table (an instance of the trace pipeline).

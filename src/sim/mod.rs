@@ -7,11 +7,19 @@
 //! worker waits), so it never needs to know the speed. Runs are numbered; every event carries
 //! its run's number, so states of a superseded run still in the channel are recognised and
 //! dropped.
+//!
+//! Other work off the UI thread is a [`Job`]: a recording read and its motion recovered, a fit,
+//! the file dialog ([`recorded`] holds a recording's state in the window, without egui).
 
+pub mod file_dialog;
+pub mod job;
 pub mod player;
+pub mod recorded;
 pub mod track;
 pub mod worker;
 
+pub use job::{Job, JobContext, JobLost, Progress};
 pub use player::{Player, SPEED_MAX, SPEED_MIN};
+pub use recorded::{LoadError, LoadedRecording, RecordingSession, SessionEvent};
 pub use track::{PathPoint, StateAt, Track};
 pub use worker::{CHANNEL_CAPACITY, Event, RunEnd, SimHandle, Start};

@@ -1,11 +1,16 @@
 //! The window: egui panels around the 3D view (functions that draw egui end in `_ui`). The app
 //! holds one run, or two side by side on one clock, each fed by an integrator thread
-//! ([`crate::sim`]) or, for tests and headless pictures, computed at once.
+//! ([`crate::sim`]) or, for tests and headless pictures, computed at once. A recording
+//! (File > Open recording, or dropped onto the window) is replayed beside the model and can be
+//! fitted ([`recording_panel`]; its state is a [`RecordingSession`]).
 
 pub mod controls;
 pub mod palette;
+mod app_recording;
 mod panels;
 pub mod plots;
+pub mod recording_panel;
+pub mod recording_view;
 pub mod scene;
 mod settings;
 pub mod teach;
@@ -16,7 +21,7 @@ pub use settings::{SETTINGS_KEY, Settings};
 
 use crate::config::{Case, load_preset};
 use crate::render::OrbitCamera;
-use crate::sim::{Player, SimHandle, Track};
+use crate::sim::{Player, RecordingSession, SimHandle, Track};
 use controls::Change;
 use eframe::egui;
 use settings::builtin;
@@ -83,8 +88,18 @@ impl Run {
     }
 }
 
+/// The side panel's tabs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideTab {
+    Model,
+    Recording,
+}
+
 pub struct RinglabApp {
     pub settings: Settings,
+    /// A recording, its loading and its fit.
+    pub recording: RecordingSession,
+    pub side_tab: SideTab,
     runs: Vec<Run>,
     pub player: Player,
     camera: OrbitCamera,
@@ -106,6 +121,8 @@ impl RinglabApp {
         let live = mode == Mode::Live;
         let mut app = RinglabApp {
             settings,
+            recording: RecordingSession::new(live),
+            side_tab: SideTab::Model,
             runs: Vec::new(),
             player: Player::default(),
             camera: OrbitCamera::default_for(1.0),
@@ -244,6 +261,14 @@ impl RinglabApp {
         self.runs.iter().map(|r| r.track()).collect()
     }
 
+    /// Moves the clock to time `t` of the first run, in its units.
+    pub fn seek_model_time(&mut self, t: f64) {
+        if let Some(r) = self.runs.first() {
+            let s = t * r.time_s();
+            self.player.seek(s);
+        }
+    }
+
     /// The display time of run `i` in its own units.
     fn run_time(&self, i: usize) -> f64 {
         self.player.seconds() / self.runs[i].time_s()
@@ -259,7 +284,8 @@ impl RinglabApp {
             }
             end = end.max(t.end()?.t_end * r.time_s());
         }
-        Some(end)
+        // The recording replays to its last frame even where the model stops before.
+        Some(self.recording.end_seconds().map_or(end, |e| end.max(e)))
     }
 
     /// How far the scrubber reaches (seconds): the end, or what has arrived so far.
@@ -351,13 +377,22 @@ impl RinglabApp {
             self.tick(Instant::now());
         }
         self.keys(ui.ctx());
+        self.take_dropped_files(ui.ctx());
+        self.take_recording_events();
 
         // Panels leave their background to the window's clear colour (the same grey): on a
         // software rasteriser every filled pixel of egui costs, and the panels cover the window.
         let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
         egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
+        if recording_panel::has_messages(&self.recording) {
+            egui::Panel::top("messages").frame(side).show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
+        }
         egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| self.parameters_panel_ui(ui));
+            self.side_tabs_ui(ui);
+            egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
+                SideTab::Model => self.parameters_panel_ui(ui),
+                SideTab::Recording => self.recording_tab_ui(ui),
+            });
         });
         if self.live {
             self.pump_now();
@@ -369,8 +404,13 @@ impl RinglabApp {
         });
         egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
 
+        recording_panel::drop_hint_ui(ui.ctx());
+
         if self.is_animating() {
             ui.ctx().request_repaint();
+        } else if self.recording.busy() {
+            // A fit's progress, a file being read: nothing else may be moving.
+            ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
     }
 }

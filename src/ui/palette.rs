@@ -38,3 +38,8 @@ pub const RUN_COLORS: [Color32; 2] = [Color32::from_rgb(40, 110, 215), Color32::
 /// Shading of the intervals where the model is invalid.
 pub const LIFT_OFF_FILL: Color32 = Color32::from_rgba_premultiplied(120, 20, 20, 60);
 pub const SLIP_FILL: Color32 = Color32::from_rgba_premultiplied(110, 70, 0, 45);
+/// A recording (its path, its ring, its series): green, apart from the phases and the runs.
+pub const DATA_RGB: [u8; 3] = [22, 150, 90];
+pub const DATA_COLOR: Color32 = Color32::from_rgb(DATA_RGB[0], DATA_RGB[1], DATA_RGB[2]);
+/// The recording's ring in 3D (linear RGB): a green-tinted metal.
+pub const DATA_BODY_LINEAR: [f32; 3] = [0.22, 0.55, 0.34];

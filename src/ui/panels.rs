@@ -1,8 +1,10 @@
 //! The window's panels around the 3D view.
 
 use super::controls::{self, UnitLabels};
-use super::palette::BODY_LINEAR;
-use super::{RinglabApp, plots, scene, teach, trace_panel, view3d};
+use super::palette::{BODY_LINEAR, DATA_COLOR};
+use super::recording_panel::{self, RecordingAction};
+use super::recording_view::DataView;
+use super::{RinglabApp, SideTab, plots, scene, teach, trace_panel, view3d};
 use crate::config::load_preset;
 use crate::render::OrbitCamera;
 use crate::sim::Track;
@@ -12,6 +14,11 @@ impl RinglabApp {
     pub(super) fn top_bar_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.label(RichText::new("ringlab").strong().size(16.0));
+            let action = recording_panel::file_menu_ui(ui, &self.recording);
+            if action != RecordingAction::None {
+                self.side_tab = SideTab::Recording;
+            }
+            self.act_on_recording(action);
             ui.separator();
             if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
                 self.ring_vs_disk();
@@ -37,6 +44,29 @@ impl RinglabApp {
             }
             self.settings.speed = self.player.speed();
         });
+    }
+
+    /// The side panel's tabs: the model's parameters, the recording.
+    pub(super) fn side_tabs_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.side_tab, SideTab::Model, RichText::new("Model").strong());
+            let busy = if self.recording.fit_progress().is_some() || self.recording.loading().is_some() { " …" } else { "" };
+            ui.selectable_value(&mut self.side_tab, SideTab::Recording, RichText::new(format!("Recording{busy}")).strong());
+        });
+        ui.separator();
+    }
+
+    pub(super) fn recording_tab_ui(&mut self, ui: &mut egui::Ui) {
+        let in_use = self.recording.fitted().is_some_and(|f| f.case == self.settings.case);
+        let action = recording_panel::recording_panel_ui(ui, &self.recording, in_use);
+        self.act_on_recording(action);
+    }
+
+    /// The recording as shown now, in the first run's units.
+    fn data_view(&self) -> Option<DataView> {
+        let run = self.runs.first()?;
+        let units = run.track().case().units;
+        DataView::at(&self.recording, &units, self.player.seconds(), run.time_s())
     }
 
     pub(super) fn parameters_panel_ui(&mut self, ui: &mut egui::Ui) {
@@ -97,7 +127,9 @@ impl RinglabApp {
             .map(|(i, r)| plots::PlotRun { name: &names[i], track: r.track(), t: self.run_time(i), time_factor: r.time_s() / first_ts })
             .collect();
         let label = self.runs.first().map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time)).unwrap_or_default();
-        plots::plots_ui(ui, &runs, &label);
+        let data = self.data_view();
+        let lines = data.as_ref().map(|d| d.plot_lines()).unwrap_or_default();
+        plots::plots_ui(ui, &runs, &label, &lines);
     }
 
     fn run_names(&self) -> Vec<String> {
@@ -111,11 +143,20 @@ impl RinglabApp {
     pub(super) fn traces_panel_ui(&mut self, ui: &mut egui::Ui) {
         let contact = self.settings.show_contact;
         teach::phase_legend_ui(ui);
+        let data = self.data_view();
+        if let Some(d) = &data {
+            ui.horizontal_wrapped(|ui| {
+                teach::swatch_ui(ui, DATA_COLOR);
+                ui.label(&d.name);
+                ui.label(RichText::new("(square: now)").small());
+            });
+        }
         let names = self.run_names();
         let bounds = self
             .runs
             .iter()
             .filter_map(|r| trace_panel::Bounds::of(r.track(), contact))
+            .chain(data.as_ref().and_then(|d| d.bounds))
             .reduce(trace_panel::Bounds::union);
         let n = self.runs.len().max(1);
         let w = (ui.available_width() - 6.0 * (n as f32 - 1.0)) / n as f32;
@@ -123,8 +164,11 @@ impl RinglabApp {
         ui.horizontal(|ui| {
             for i in 0..self.runs.len() {
                 let t = self.run_time(i);
+                // The recording goes with the first run (the one a recording's model is put in).
+                let overlays: Vec<trace_panel::Overlay> = data.iter().filter(|_| i == 0).map(|d| d.overlay()).collect();
                 ui.allocate_ui(egui::vec2(w, h), |ui| {
-                    trace_panel::trace_panel_ui(ui, &format!("path of A from above: {}", names[i]), self.runs[i].track(), t, contact, bounds);
+                    let title = format!("path of A from above: {}", names[i]);
+                    trace_panel::trace_panel_with_ui(ui, &title, self.runs[i].track(), t, contact, bounds, &overlays);
                 });
             }
         });
@@ -135,8 +179,13 @@ impl RinglabApp {
         let times: Vec<f64> = (0..self.runs.len()).map(|i| self.run_time(i)).collect();
         let (follow, contact) = (self.settings.follow, self.settings.show_contact);
         let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
+        let data = self.data_view();
         let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), |i, cam| {
-            scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2])
+            let mut frame = scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2]);
+            if let Some(d) = data.as_ref().filter(|_| i == 0) {
+                scene::add_recording(&mut frame, &d.path, d.ring.as_ref().map(|(b, p)| (b, *p)));
+            }
+            frame
         });
         let names = self.run_names();
         for (i, rect) in rects.iter().enumerate() {

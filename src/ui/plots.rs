@@ -1,5 +1,7 @@
 //! Live plots against time: `v_p` (the paper's Fig. 3), `F_f` (Fig. 4c, with the theta_max
 //! points marked), theta and the energy. Where the model is invalid (lift-off, slip) is shaded.
+//! A recording's series ([`DataLine`]) share the plots of their quantity: `v_p` of data and
+//! model in one plot is the paper's Fig. 3 and 4a together.
 
 use super::palette::{LIFT_OFF_FILL, RUN_COLORS, SLIP_FILL};
 use crate::physics::{Interval, Sample};
@@ -19,6 +21,16 @@ pub struct PlotRun<'a> {
     pub t: f64,
     /// Multiplies the track's times to give the plots' time axis (the first run's units).
     pub time_factor: f64,
+}
+
+/// A measured series drawn with the runs' in the plot of one quantity.
+pub struct DataLine<'a> {
+    /// The plot's id: "v_p", "F_f", "theta" or "energy".
+    pub quantity: &'static str,
+    pub name: &'a str,
+    /// (time on the plots' axis, value in the first run's units), up to the display time.
+    pub points: Vec<[f64; 2]>,
+    pub color: Color32,
 }
 
 struct Quantity {
@@ -91,19 +103,29 @@ fn series(run: &PlotRun, value: fn(&Sample) -> f64) -> Vec<[f64; 2]> {
 }
 
 /// The four plots in a 2 x 2 grid filling the space given; `time_label`: the time axis' unit.
-pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str) {
+pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[DataLine]) {
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new("Shaded: the model's assumptions fail there:").small());
         super::teach::swatch_ui(ui, LIFT_OFF_FILL);
         ui.label(egui::RichText::new("lift-off (F_N <= 0)").small());
         super::teach::swatch_ui(ui, SLIP_FILL);
         ui.label(egui::RichText::new("slip (friction needed > mu F_N)").small());
-        if runs.len() > 1 {
+        if runs.len() > 1 || !data.is_empty() {
             ui.separator();
             for (i, run) in runs.iter().enumerate() {
                 super::teach::swatch_ui(ui, RUN_COLORS[i % RUN_COLORS.len()]);
                 ui.label(egui::RichText::new(run.name).small());
             }
+        }
+        // One entry per recording (its lines in several plots share the name and colour).
+        let mut named: Vec<&str> = Vec::new();
+        for d in data {
+            if named.contains(&d.name) {
+                continue;
+            }
+            named.push(d.name);
+            super::teach::swatch_ui(ui, d.color);
+            ui.label(egui::RichText::new(d.name).small());
         }
     });
     let size = ui.available_size();
@@ -111,7 +133,8 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str) {
     let link = Id::unique("ringlab-plots-time");
     egui::Grid::new("plots").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         for (k, q) in QUANTITIES.iter().enumerate() {
-            ui.allocate_ui(cell, |ui| quantity_plot_ui(ui, q, runs, time_label, link, cell));
+            let lines: Vec<&DataLine> = data.iter().filter(|d| d.quantity == q.id).collect();
+            ui.allocate_ui(cell, |ui| quantity_plot_ui(ui, q, runs, &lines, time_label, link, cell));
             if k % 2 == 1 {
                 ui.end_row();
             }
@@ -119,7 +142,7 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str) {
     });
 }
 
-fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], time_label: &str, link: Id, cell: egui::Vec2) {
+fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], data: &[&DataLine], time_label: &str, link: Id, cell: egui::Vec2) {
     ui.vertical(|ui| {
         ui.label(egui::RichText::new(q.label).small());
         let h = (cell.y - 20.0).max(40.0);
@@ -136,7 +159,12 @@ fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], time_labe
             .show_axes([true, true])
             .include_x(0.0);
         let lines: Vec<Vec<[f64; 2]>> = runs.iter().map(|run| series(run, q.value)).collect();
-        let (lo, hi) = lines.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[1]), hi.max(p[1])));
+        let measured: Vec<Vec<[f64; 2]>> = data.iter().map(|d| thin(&d.points, BUCKETS)).collect();
+        let (lo, hi) = lines
+            .iter()
+            .chain(&measured)
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[1]), hi.max(p[1])));
         let pad = 0.05 * (hi - lo).max(1e-9);
         let (lo, hi) = (lo - pad, hi + pad);
         plot.show(ui, |p| {
@@ -161,6 +189,10 @@ fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], time_labe
                         p.points(Points::new(format!("{} at theta_max", run.name), PlotPoints::new(pts)).color(color).radius(2.0));
                     }
                 }
+            }
+            // The data over the model, thinner: the noise shows, and the model under it.
+            for (d, pts) in data.iter().zip(measured) {
+                p.line(Line::new(d.name, PlotPoints::new(pts)).color(d.color).width(1.1).allow_band(false));
             }
             if let Some(run) = runs.first() {
                 p.vline(VLine::new("now", run.t * run.time_factor).color(Color32::from_gray(120)).width(1.0));

@@ -1,7 +1,7 @@
 //! From tracks to what the 3D view draws: bodies where they are at the display time, the path
 //! of A coloured by phase, the contact point's path, the start and the inflection.
 
-use super::palette::{CONTACT_RGB, phase_linear, srgb_to_linear};
+use super::palette::{CONTACT_RGB, DATA_BODY_LINEAR, DATA_RGB, phase_linear, srgb_to_linear};
 use crate::physics::Body;
 use crate::render::{BodyDraw, BodyGeometry, BodyPose, CameraView, OrbitCamera, SceneFrame, TraceSegment, nice_step};
 use crate::sim::Track;
@@ -134,7 +134,7 @@ pub fn body_draw(track: &Track, t: f64, color: [f32; 3]) -> Option<BodyDraw> {
     let s = track.state_at(t)?.sample;
     let body = &track.case().model.body;
     let pose = BodyPose::new(&s, body);
-    Some(BodyDraw { geometry: body_geometry(body), world_from_ring: pose.world_from_ring, color, contact: pose.contact })
+    Some(BodyDraw { geometry: body_geometry(body), world_from_ring: pose.world_from_ring, color, contact: pose.contact, yields: false })
 }
 
 /// One view's frame: `track` at `t` seen by `camera`, its target moved to the followed point
@@ -155,6 +155,27 @@ pub fn scene_frame(track: &Track, t: f64, camera: &OrbitCamera, follow: bool, sh
         scale: r,
         grid_spacing: nice_step(track.case().model.body.r) as f32,
         focus: Vec3::from(cam.target).truncate(),
+    }
+}
+
+/// A recording added to a view's frame: the path of its point A so far (table, the view's
+/// units) over the model's traces, and its ring where the recording has it now.
+pub fn add_recording(frame: &mut SceneFrame, path: &[[f64; 2]], ring: Option<(&Body, BodyPose)>) {
+    let r = frame.scale;
+    let [cr, cg, cb] = DATA_RGB.map(|x| srgb_to_linear(x as f32 / 255.0));
+    let v = |p: [f64; 2]| Vec2::new(p[0] as f32, p[1] as f32);
+    // Narrower than the model's path, so that where they agree both show.
+    for w in simplify(path, 0.002 * r as f64, |_| false).windows(2) {
+        frame.traces.push(TraceSegment::new(v(path[w[0]]), v(path[w[1]]), [cr, cg, cb, 0.95], 0.014 * r, 0.7));
+    }
+    if let Some((body, pose)) = ring {
+        frame.bodies.push(BodyDraw {
+            geometry: body_geometry(body),
+            world_from_ring: pose.world_from_ring,
+            color: DATA_BODY_LINEAR,
+            contact: pose.contact,
+            yields: true,
+        });
     }
 }
 

@@ -1,6 +1,6 @@
 //! The top-down trace panel: the path of A seen from above, coloured by phase, with the
 //! contact point's path (optional), the start, the inflection, the current position and a
-//! scale bar.
+//! scale bar; a recording's path over it ([`Overlay`]).
 
 use super::palette::{CONTACT_RGB, phase_color};
 use super::scene::simplify;
@@ -39,6 +39,16 @@ impl Bounds {
     fn add(&mut self, x: f64, y: f64) {
         self.min = [self.min[0].min(x), self.min[1].min(y)];
         self.max = [self.max[0].max(x), self.max[1].max(y)];
+    }
+
+    /// The box around `points` (None without points).
+    pub fn of_points(points: &[[f64; 2]]) -> Option<Bounds> {
+        let first = points.first()?;
+        let mut b = Bounds { min: *first, max: *first };
+        for p in points {
+            b.add(p[0], p[1]);
+        }
+        Some(b)
     }
 
     pub fn union(self, o: Bounds) -> Bounds {
@@ -110,9 +120,32 @@ mod tests {
     }
 }
 
+/// Another path drawn over the model's (a recording's point A), in the track's units and
+/// frame.
+pub struct Overlay<'a> {
+    /// The path so far.
+    pub points: &'a [[f64; 2]],
+    pub color: Color32,
+    /// Where it is now.
+    pub now: Option<[f64; 2]>,
+}
+
 /// Draws the panel for `track` at its time `t`, filling the space given. `bounds`: the region
 /// to show (shared by panels side by side so that they have one scale).
 pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, show_contact: bool, bounds: Option<Bounds>) {
+    trace_panel_with_ui(ui, title, track, t, show_contact, bounds, &[]);
+}
+
+/// [`trace_panel_ui`] with other paths over the model's (their bounds belong in `bounds`).
+pub fn trace_panel_with_ui(
+    ui: &mut egui::Ui,
+    title: &str,
+    track: &Track,
+    t: f64,
+    show_contact: bool,
+    bounds: Option<Bounds>,
+    overlays: &[Overlay],
+) {
     let size = ui.available_size().max(Vec2::splat(60.0));
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     let painter = ui.painter_at(rect);
@@ -176,6 +209,13 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
     if run.len() > 1 {
         painter.add(Shape::line(run, Stroke::new(1.8, phase_color(run_phase))));
     }
+    // Over the model's path, thinner, so that where the two agree both show.
+    for o in overlays {
+        let kept = simplify(o.points, tol, |_| false);
+        if kept.len() > 1 {
+            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(1.2, o.color)));
+        }
+    }
 
     if let Some(first) = path.first() {
         let p = scr(first.a);
@@ -197,6 +237,12 @@ pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, sho
         let p = map.to_screen(n.x_a, n.y_a);
         painter.circle_filled(p, 5.0, phase_color(track.phase_at(t)));
         painter.circle_stroke(p, 5.0, Stroke::new(1.5, Color32::WHITE));
+    }
+    // A square for the overlay's present position (the model's is round).
+    for (o, p) in overlays.iter().filter_map(|o| o.now.map(|p| (o, scr(p)))) {
+        let r = Rect::from_center_size(p, Vec2::splat(9.0));
+        painter.rect_filled(r, 1.0, o.color);
+        painter.rect_stroke(r, 1.0, Stroke::new(1.5, Color32::WHITE), egui::StrokeKind::Outside);
     }
 
     // Scale bar: a nice length about a fifth of the width, bottom left.

@@ -1,0 +1,102 @@
+//! File > Open recording: the desktop's file dialog (rfd), on a thread of its own so that the
+//! window keeps drawing while it is open.
+//!
+//! On Linux rfd asks the XDG desktop portal over D-Bus (libdbus, loaded at run time) and falls
+//! back to `zenity`; where neither is there it returns nothing, as it does when the user
+//! cancels. To tell the two apart, rfd's own log lines are caught: a failed fallback is a
+//! dialog that could not be shown, and the user is told to drop the file on the window.
+
+use super::job::Job;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// What came of the dialog.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DialogOutcome {
+    Picked(PathBuf),
+    Cancelled,
+    /// No dialog could be shown; why.
+    Unavailable(String),
+}
+
+/// rfd's warnings and errors since the last dialog opened.
+static RFD_LOG: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// Catches the log lines of rfd (and nothing else: no other crate's lines are wanted).
+struct RfdLog;
+
+impl log::Log for RfdLog {
+    fn enabled(&self, m: &log::Metadata) -> bool {
+        m.target().starts_with("rfd") && m.level() <= log::Level::Warn
+    }
+
+    fn log(&self, r: &log::Record) {
+        if self.enabled(r.metadata())
+            && let Ok(mut v) = RFD_LOG.lock()
+            && v.len() < 16
+        {
+            v.push(r.args().to_string());
+        }
+    }
+
+    fn flush(&self) {}
+}
+
+static LOGGER: RfdLog = RfdLog;
+
+/// Installs the catcher once; false where another logger was there first.
+fn catch_rfd_log() -> bool {
+    static INSTALLED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *INSTALLED.get_or_init(|| {
+        let ok = log::set_logger(&LOGGER).is_ok();
+        if ok {
+            log::set_max_level(log::LevelFilter::Warn);
+        }
+        ok
+    })
+}
+
+/// Why no dialog could be shown, from what rfd logged (None: it was shown, or cancelled).
+fn failure(lines: &[String]) -> Option<String> {
+    // rfd logs "Failed to pick file with zenity: ..." when its last fallback failed.
+    lines.iter().any(|l| l.contains("zenity") && l.contains("Failed")).then(|| {
+        "no file dialog is available here (it needs an XDG desktop portal or zenity): drop the .csv file onto the window instead"
+            .to_string()
+    })
+}
+
+/// Opens the dialog (a thread of its own when `background`).
+pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
+    Job::start("file-dialog", background, |_| {
+        // Where another logger came first a failure reads as a cancel (nothing else breaks).
+        catch_rfd_log();
+        if let Ok(mut v) = RFD_LOG.lock() {
+            v.clear();
+        }
+        let picked = rfd::FileDialog::new()
+            .set_title("Open a recording (format v1)")
+            .add_filter("recordings", &["csv"])
+            .add_filter("all files", &["*"])
+            .pick_file();
+        match picked {
+            Some(p) => DialogOutcome::Picked(p),
+            None => {
+                let lines = RFD_LOG.lock().map(|v| v.clone()).unwrap_or_default();
+                failure(&lines).map_or(DialogOutcome::Cancelled, DialogOutcome::Unavailable)
+            }
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::failure;
+
+    #[test]
+    fn a_failed_zenity_fallback_means_no_dialog() {
+        let lines = vec!["Using zenity fallback".to_string(), "Failed to pick file with zenity: No such file or directory".to_string()];
+        assert!(failure(&lines).is_some_and(|m| m.contains("drop the .csv file")));
+        assert_eq!(failure(&["Using zenity fallback".to_string()]), None);
+        assert_eq!(failure(&[]), None);
+    }
+}

@@ -1,0 +1,297 @@
+//! A recording in the window, without egui: reading it and recovering its motion, then fitting
+//! the model to it, each as a [`Job`] off the UI thread; what was loaded and fitted; the
+//! recording frame by frame on the display's clock; the cases the simulator adopts.
+//!
+//! The clock: the display counts seconds from the model's start (t = 0). The model starts at
+//! the recording's first inner turning point (reconstructed from the poses on loading, the
+//! fitted start after a fit), so frame `i` is shown at `i / fps - offset`, `offset` the time of
+//! that start from the first stored frame (frames are counted from the first stored one, as
+//! the fit counts them).
+
+mod fitting;
+mod loaded;
+
+pub use fitting::describe_fit_progress;
+pub use loaded::{LoadError, LoadedRecording};
+
+use super::file_dialog::{DialogOutcome, pick_recording};
+use super::job::{Job, JobLost, Progress};
+use crate::analysis::fit::{FitError, FitResult};
+use crate::config::CaseFile;
+use crate::recording::recover::{Angles, FrameMotion};
+use fitting::run_fit;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A fit done, and the case it gives.
+pub struct Fitted {
+    pub result: FitResult,
+    pub case: CaseFile,
+}
+
+/// What the app should do after [`RecordingSession::poll`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum SessionEvent {
+    /// A recording is loaded: start the model from this case (None: it has no start state;
+    /// the model stays as it was).
+    Loaded(Option<CaseFile>),
+    /// A fit is done: adopt its case.
+    Fitted(CaseFile),
+}
+
+/// Everything about the recording in the window.
+pub struct RecordingSession {
+    /// Jobs on threads (the live window) or at once (tests, pictures).
+    background: bool,
+    loaded: Option<LoadedRecording>,
+    loading: Option<(PathBuf, Job<Result<LoadedRecording, LoadError>>)>,
+    dialog: Option<Job<DialogOutcome>>,
+    fitting: Option<Job<Result<FitResult, FitError>>>,
+    fitted: Option<Fitted>,
+    /// Seconds from the first stored frame to the model's t = 0.
+    offset_s: f64,
+    /// A problem to show until dismissed (a file that could not be read, a failed fit).
+    pub error: Option<String>,
+    /// Something to know that is no error (a cancelled fit, no dialog).
+    pub note: Option<String>,
+}
+
+impl RecordingSession {
+    pub fn new(background: bool) -> RecordingSession {
+        RecordingSession {
+            background,
+            loaded: None,
+            loading: None,
+            dialog: None,
+            fitting: None,
+            fitted: None,
+            offset_s: 0.0,
+            error: None,
+            note: None,
+        }
+    }
+
+    pub fn loaded(&self) -> Option<&LoadedRecording> {
+        self.loaded.as_ref()
+    }
+
+    pub fn fitted(&self) -> Option<&Fitted> {
+        self.fitted.as_ref()
+    }
+
+    /// The file being read, if any.
+    pub fn loading(&self) -> Option<&Path> {
+        self.loading.as_ref().map(|(p, _)| p.as_path())
+    }
+
+    pub fn dialog_open(&self) -> bool {
+        self.dialog.is_some()
+    }
+
+    /// Where the fit is, while one runs.
+    pub fn fit_progress(&self) -> Option<Progress> {
+        self.fitting.as_ref().map(|j| j.progress())
+    }
+
+    pub fn fit_cancelling(&self) -> bool {
+        self.fitting.as_ref().is_some_and(|j| j.is_cancelling())
+    }
+
+    /// Whether anything runs that the window should redraw for.
+    pub fn busy(&self) -> bool {
+        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some()
+    }
+
+    /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
+    pub fn open_dialog(&mut self) {
+        if self.dialog.is_none() {
+            self.note = None;
+            self.dialog = Some(pick_recording(self.background));
+        }
+    }
+
+    /// Starts reading `path` (the dialog's and drag-and-drop's way in). A fit of the previous
+    /// recording is stopped; the previous recording stays until the new one is read.
+    pub fn open(&mut self, path: PathBuf) {
+        self.error = None;
+        self.note = None;
+        let p = path.clone();
+        self.loading = Some((path, Job::start("read-recording", self.background, move |_| LoadedRecording::load(&p))));
+    }
+
+    /// Forgets the recording (a running fit stops).
+    pub fn close(&mut self) {
+        self.loaded = None;
+        self.fitted = None;
+        self.fitting = None;
+        self.loading = None;
+        self.note = None;
+        self.offset_s = 0.0;
+    }
+
+    /// Starts a fit of the loaded recording (none while one runs).
+    pub fn start_fit(&mut self) {
+        let Some(l) = &self.loaded else { return };
+        if self.fitting.is_some() {
+            return;
+        }
+        self.note = None;
+        let rec = Arc::clone(&l.recording);
+        let background = self.background;
+        self.fitting = Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
+    }
+
+    /// Asks a running fit to stop.
+    pub fn cancel_fit(&mut self) {
+        if let Some(j) = &self.fitting {
+            j.cancel();
+        }
+    }
+
+    /// Takes in what the jobs have finished, without waiting; says what the app should adopt.
+    pub fn poll(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        if let Some(outcome) = self.dialog.as_mut().and_then(|j| j.poll()) {
+            self.dialog = None;
+            match outcome {
+                Ok(DialogOutcome::Picked(p)) => self.open(p),
+                Ok(DialogOutcome::Cancelled) => {}
+                Ok(DialogOutcome::Unavailable(why)) => self.note = Some(why),
+                Err(JobLost) => self.note = Some("the file dialog failed: drop the .csv file onto the window instead".into()),
+            }
+        }
+        if let Some(done) = self.loading.as_mut().and_then(|(_, j)| j.poll()) {
+            let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
+            match done {
+                Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
+                Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
+                Err(JobLost) => self.error = Some(format!("Could not open the recording {}: reading it failed unexpectedly", path.display())),
+            }
+        }
+        if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
+            self.fitting = None;
+            match done {
+                Ok(Ok(r)) => events.extend(self.adopt_fit(r)),
+                Ok(Err(FitError::Cancelled)) => self.note = Some("the fit was cancelled".into()),
+                Ok(Err(e)) => self.error = Some(format!("The fit failed: {e}")),
+                Err(JobLost) => self.error = Some("The fit stopped unexpectedly".into()),
+            }
+        }
+        events
+    }
+
+    /// Waits for every job to finish and takes in their results (tests; a caller that must
+    /// have the result now).
+    pub fn wait(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        while self.busy() {
+            self.dialog.iter_mut().for_each(Job::finish);
+            self.loading.iter_mut().for_each(|(_, j)| j.finish());
+            self.fitting.iter_mut().for_each(Job::finish);
+            events.extend(self.poll());
+        }
+        events
+    }
+
+    fn adopt_loaded(&mut self, l: LoadedRecording) -> SessionEvent {
+        self.fitting = None;
+        self.fitted = None;
+        let start = l.start_case();
+        let fps = l.fps();
+        self.loaded = Some(l);
+        match start {
+            Ok((case, frame)) => {
+                self.offset_s = frame as f64 / fps;
+                SessionEvent::Loaded(Some(case))
+            }
+            Err(why) => {
+                self.offset_s = 0.0;
+                self.note = Some(format!("{why}: the model was left as it was"));
+                SessionEvent::Loaded(None)
+            }
+        }
+    }
+
+    fn adopt_fit(&mut self, r: FitResult) -> Option<SessionEvent> {
+        let l = self.loaded.as_ref()?;
+        match l.fitted_case(&r) {
+            Ok(case) => {
+                self.offset_s = r.start_t * r.units.time_s;
+                self.fitted = Some(Fitted { result: r, case: case.clone() });
+                Some(SessionEvent::Fitted(case))
+            }
+            Err(e) => {
+                self.error = Some(format!("The fitted model cannot be run: {e}"));
+                None
+            }
+        }
+    }
+
+    /// The fitted case again (after the sliders moved away from it).
+    pub fn readopt_fit(&mut self) -> Option<SessionEvent> {
+        let f = self.fitted.as_ref()?;
+        self.offset_s = f.result.start_t * f.result.units.time_s;
+        Some(SessionEvent::Fitted(f.case.clone()))
+    }
+
+    /// Seconds from the first stored frame to the model's t = 0.
+    pub fn offset_s(&self) -> f64 {
+        self.offset_s
+    }
+
+    /// The display time (s from the model's start) of frame `i`.
+    pub fn frame_seconds(&self, i: usize) -> Option<f64> {
+        let l = self.loaded.as_ref()?;
+        Some(i as f64 / l.fps() - self.offset_s)
+    }
+
+    /// The display time of the last frame.
+    pub fn end_seconds(&self) -> Option<f64> {
+        let n = self.loaded.as_ref()?.frames().len();
+        self.frame_seconds(n.checked_sub(1)?)
+    }
+
+    /// The frame shown at display time `seconds`: the nearest one; None before the first
+    /// frame, the last one after the end (the ring lies where it stopped).
+    pub fn frame_at(&self, seconds: f64) -> Option<usize> {
+        let l = self.loaded.as_ref()?;
+        let k = ((seconds + self.offset_s) * l.fps()).round();
+        if !(k >= 0.0) {
+            return None;
+        }
+        Some((k as usize).min(l.frames().len().checked_sub(1)?))
+    }
+
+    /// The frames shown up to display time `seconds` (all of them before it).
+    pub fn frames_until(&self, seconds: f64) -> &[FrameMotion] {
+        match (self.loaded.as_ref(), self.frame_at(seconds)) {
+            (Some(l), Some(k)) => &l.frames()[..=k],
+            _ => &[],
+        }
+    }
+
+    /// The pose at display time `seconds`: the angles and point A (mm) blended linearly
+    /// between the two frames around it where both have a pose on one stretch (the angles are
+    /// continuous there; a frame is up to 1/fps apart from the model's interpolated state, a
+    /// visible turn of a fast ring), else from the nearest frame with a pose (within three).
+    pub fn pose_at(&self, seconds: f64) -> Option<(Angles, [f64; 2])> {
+        let l = self.loaded.as_ref()?;
+        let k = self.frame_at(seconds)?;
+        let frames = l.frames();
+        let n = frames.len();
+        let pose = |j: usize| frames.get(j).and_then(|f| Some((f.angles?, f.a_mm?, f.stretch)));
+        let at = (seconds + self.offset_s) * l.fps();
+        let i = at.floor();
+        if i >= 0.0
+            && let (Some((a0, p0, s0)), Some((a1, p1, s1))) = (pose(i as usize), pose(i as usize + 1))
+            && s0.is_some()
+            && s0 == s1
+        {
+            let u = at - i;
+            let mix = |x: f64, y: f64| x + (y - x) * u;
+            let angles = Angles { phi: mix(a0.phi, a1.phi), theta: mix(a0.theta, a1.theta), psi: mix(a0.psi, a1.psi) };
+            return Some((angles, [mix(p0[0], p1[0]), mix(p0[1], p1[1])]));
+        }
+        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| pose(j).map(|(a, p, _)| (a, p)))
+    }
+}

@@ -1,0 +1,78 @@
+//! The app's side of a recording: opening it (menu, dialog, dropped files), adopting what its
+//! jobs finished (the model started from the recording, the fitted model), the user's actions.
+
+use super::recording_panel::RecordingAction;
+use super::{RinglabApp, SideTab};
+use crate::config::CaseFile;
+use crate::sim::SessionEvent;
+use eframe::egui;
+
+impl RinglabApp {
+    /// Opens a recording (the file dialog's and drag-and-drop's way in): read and recovered
+    /// off the UI thread, or at once in fixed mode.
+    pub fn open_recording(&mut self, path: std::path::PathBuf) {
+        self.recording.open(path);
+        self.side_tab = SideTab::Recording;
+        self.take_recording_events();
+    }
+
+    /// Files dropped onto the window this frame: the first is opened.
+    pub(super) fn take_dropped_files(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<std::path::PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
+        if let Some(first) = dropped.into_iter().next() {
+            self.open_recording(first);
+        }
+    }
+
+    /// Adopts what the recording's jobs finished: the model started from the recording, or
+    /// the fitted model.
+    pub(super) fn take_recording_events(&mut self) {
+        let events = self.recording.poll();
+        self.adopt_events(events);
+    }
+
+    /// Waits for the recording's jobs and adopts their results (tests; pictures).
+    pub fn finish_recording_jobs(&mut self) {
+        let events = self.recording.wait();
+        self.adopt_events(events);
+    }
+
+    fn adopt_events(&mut self, events: Vec<SessionEvent>) {
+        for ev in events {
+            match ev {
+                SessionEvent::Loaded(Some(case)) | SessionEvent::Fitted(case) => self.adopt_case(case),
+                // The model stays; the clock starts again with the recording.
+                SessionEvent::Loaded(None) => self.player.reset(),
+            }
+        }
+    }
+
+    /// Runs `case` alone (side by side off), from its start.
+    fn adopt_case(&mut self, case: CaseFile) {
+        self.settings.compare = false;
+        self.settings.edit_second = false;
+        self.settings.preset = case.name.clone();
+        self.settings.case = case;
+        self.error = None;
+        self.rebuild_runs();
+    }
+
+    /// Does what the File menu or the Recording tab asked for (also for tests and pictures:
+    /// in fixed mode the work is done when this returns).
+    pub fn act_on_recording(&mut self, action: RecordingAction) {
+        use RecordingAction as A;
+        match action {
+            A::None => {}
+            A::Open => self.recording.open_dialog(),
+            A::Close => self.recording.close(),
+            A::Fit => self.recording.start_fit(),
+            A::CancelFit => self.recording.cancel_fit(),
+            A::UseFit => {
+                if let Some(SessionEvent::Fitted(case)) = self.recording.readopt_fit() {
+                    self.adopt_case(case);
+                }
+            }
+        }
+        self.take_recording_events();
+    }
+}
