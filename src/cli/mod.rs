@@ -3,6 +3,8 @@
 pub mod bench;
 pub mod bench_recording;
 pub mod case_args;
+pub mod diagnose;
+pub mod diagnose_report;
 pub mod effect_args;
 pub mod fit;
 pub mod recover;

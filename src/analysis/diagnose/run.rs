@@ -1,0 +1,264 @@
+//! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
+
+use super::candidates::fit_all;
+use super::explain::explain;
+use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
+use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
+use super::result::{Candidate, Diagnosis, MismatchWindow, ModelFit, ResidualSeries, Signature, Trace};
+use super::signature::{measure, run_end};
+use super::whole::WholeFit;
+use crate::analysis::fit::lm::LmError;
+use crate::analysis::fit::shooting::Shooting;
+use crate::analysis::fit::{FitProgress, FitResult, fit};
+use crate::physics::effects::EffectKind;
+use crate::physics::Initial;
+use crate::recording::{FrameMarks, Recording};
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// Share of the progress bar the baseline's multiple-shooting fit takes.
+const FIT_SHARE: f64 = 0.15;
+
+/// BIC of a fit with `cost` over `n` residuals and `k` parameters.
+pub fn bic(cost: f64, n: usize, k: usize) -> f64 {
+    let n = n.max(1) as f64;
+    n * (cost / n).max(1e-300).ln() + k as f64 * n.ln()
+}
+
+/// Diagnoses a recording: which physics (or measurement effect) the paper's model left out,
+/// if any. Runs for seconds: call it off the UI thread. `progress` is called from worker
+/// threads; `cancel` stops it with [`DiagnoseError::Cancelled`].
+pub fn diagnose(
+    rec: &Recording,
+    opts: &DiagnoseOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Diagnosis, DiagnoseError> {
+    let clock = Instant::now();
+    if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
+        return Err(DiagnoseError::Options(format!("evidence {} must be a number >= 0", opts.evidence)));
+    }
+    let base = fit(
+        rec,
+        &opts.fit,
+        &|p: &FitProgress| {
+            let within = if p.total > 0 { p.done as f64 / p.total as f64 } else { 0.0 };
+            let stage_index = p.stage as usize as f64;
+            progress(&DiagnoseProgress {
+                stage: DiagnoseStage::BaselineFit(p.stage),
+                fraction: FIT_SHARE * (stage_index + within.min(1.0)) / 5.0,
+                message: format!("baseline fit: {}", p.stage.describe()),
+            })
+        },
+        cancel,
+    )?;
+    let ms = base.shooting(&rec.frames);
+    let (baseline, fits) = candidates_stage(&ms, &base, opts, progress, cancel)?;
+    progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
+
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let none_score = score(&baseline);
+    let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
+        Candidate { effect: EffectKind::None, rms_px: baseline.rms_px(), score: none_score, delta_score: 0.0, strength: None, error: None },
+        Some(&baseline),
+    )];
+    for (kind, r) in &fits {
+        ranked.push(match r {
+            Ok(w) => (
+                Candidate {
+                    effect: *kind,
+                    rms_px: w.rms_px(),
+                    score: score(w),
+                    delta_score: score(w) - none_score,
+                    strength: w.strength,
+                    error: None,
+                },
+                Some(w),
+            ),
+            Err(e) => (
+                Candidate { effect: *kind, rms_px: f64::NAN, score: f64::INFINITY, delta_score: f64::INFINITY, strength: None, error: Some(e.to_string()) },
+                None,
+            ),
+        });
+    }
+    ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
+    // The best effect, if it beats the baseline by the evidence asked for.
+    let chosen = ranked
+        .iter()
+        .find(|(c, _)| c.effect != EffectKind::None)
+        .filter(|(c, _)| c.delta_score < -opts.evidence)
+        .and_then(|(_, w)| *w)
+        .unwrap_or(&baseline);
+
+    let noise_from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
+    let noise_px = base.noise_px.filter(|_| noise_from_marks).unwrap_or(base.rms_px);
+    let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let span = baseline.span.clone();
+    let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
+    let to_s = |t_model: f64| time_s(t_model / base.dt);
+
+    let sums_before = frame_sums(&rec.frames, span.clone(), &pred_before);
+    let sums_after = frame_sums(&rec.frames, span.clone(), &pred_after);
+    let width = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+    let win_before = windows(&sums_before, noise_px, width);
+    let win_after = windows(&sums_after, noise_px, width);
+    let total_excess: f64 = win_before.iter().map(|w| w.excess.max(0.0)).sum();
+    let found: Vec<MismatchWindow> = departures(&win_before)
+        .into_iter()
+        .map(|(r, excess)| {
+            let (s, c) = sums_before[r.clone()].iter().fold((0.0, 0usize), |a, x| (a.0 + x.0, a.1 + x.1));
+            MismatchWindow {
+                start_s: time_s((span.start + r.start) as f64),
+                end_s: time_s((span.start + r.end) as f64),
+                rms_px: if c > 0 { (s / c as f64).sqrt() } else { f64::NAN },
+                share: if total_excess > 0.0 { (excess / total_excess).clamp(0.0, 1.0) } else { 0.0 },
+            }
+        })
+        .collect();
+    let mismatch = found.iter().max_by(|a, b| a.share.total_cmp(&b.share)).cloned();
+
+    let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
+    let (end_before, _) = run_end(&baseline, &ms, t_stop);
+    let (end_after, slides) = run_end(chosen, &ms, t_stop);
+    let centre = baseline.camera.centre_px;
+    let mut signature = Signature::from_measured(measure(&rec.frames[span.clone()], &sums_before, &pred_before, &pred_after, centre, noise_px));
+    let frames_fitted_end = span.end;
+    signature.end_data_s = (frames_fitted_end < rec.frames.len()).then(|| time_s(frames_fitted_end as f64));
+    signature.end_before_s = end_before.map(to_s);
+    signature.end_after_s = end_after.map(to_s);
+    signature.slides_s = slides.into_iter().map(|(a, b)| (to_s(a), to_s(b))).collect();
+
+    let t_s: Vec<f64> = span.clone().map(|i| time_s(i as f64)).collect();
+    let window_s = win_before.iter().map(|w| (time_s((span.start + w.frames.start) as f64), time_s((span.start + w.frames.end) as f64))).collect();
+    let residuals = ResidualSeries {
+        t_s: t_s.clone(),
+        before_px: frame_rms(&sums_before),
+        after_px: frame_rms(&sums_after),
+        window_s,
+        window_before_px: win_before.iter().map(|w| w.rms_px).collect(),
+        window_after_px: win_after.iter().map(|w| w.rms_px).collect(),
+        window_threshold_px: win_before.iter().map(|w| w.threshold_px).collect(),
+    };
+    let trace = Trace {
+        t_s,
+        data_px: rec.frames[span.clone()].iter().map(centroid).collect(),
+        before_px: pred_before.iter().map(predicted_centroid).collect(),
+        after_px: pred_after.iter().map(predicted_centroid).collect(),
+        image_px: image_size(&base, rec),
+    };
+    let model_fit = |w: &WholeFit| ModelFit {
+        effect: w.kind,
+        rms_px: w.rms_px(),
+        cost: w.cost,
+        residual_count: w.residual_count,
+        parameter_count: w.parameter_count,
+        score: score(w),
+        c: w.c,
+        c_sigma: w.c_sigma,
+        strength: w.strength,
+        start: Initial::from_state(&w.start),
+        start_s: time_s(w.span.start as f64),
+        model: w.model.clone(),
+        camera: w.camera,
+        units: base.units,
+        end_s: None,
+    };
+    let mut before = model_fit(&baseline);
+    before.end_s = signature.end_before_s;
+    let mut after = model_fit(chosen);
+    after.end_s = signature.end_after_s;
+    let mut d = Diagnosis {
+        left_out: chosen.kind,
+        mismatch,
+        windows: found,
+        noise_px,
+        noise_from_marks,
+        before,
+        after,
+        candidates: ranked.into_iter().map(|(c, _)| c).collect(),
+        evidence: opts.evidence,
+        residuals,
+        trace,
+        signature,
+        explanation: String::new(),
+        segments_rms_px: base.rms_px,
+        segments: base.segments.len(),
+        frames: rec.frames.len(),
+        frames_fitted: span.len(),
+        fps: rec.header.fps,
+        compute_seconds: 0.0,
+    };
+    d.explanation = explain(&d);
+    d.compute_seconds = clock.elapsed().as_secs_f64();
+    Ok(d)
+}
+
+/// The baseline and the candidates over the whole run, with progress.
+fn candidates_stage(
+    ms: &Shooting,
+    base: &FitResult,
+    opts: &DiagnoseOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
+    let kinds: Vec<EffectKind> = opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    let total = kinds.len() + 1;
+    let levels = (base.segments.len().max(1) as f64).log2() + 1.0;
+    // Each path's progress: the share of its merge levels done.
+    let state = Mutex::new((vec![0.0f64; EffectKind::ALL.len()], 0usize));
+    let index = |k: EffectKind| EffectKind::ALL.iter().position(|&x| x == k).unwrap_or(0);
+    let report = |msg: String, st: &(Vec<f64>, usize)| {
+        let sum: f64 = st.0.iter().sum();
+        progress(&DiagnoseProgress {
+            stage: DiagnoseStage::Candidates,
+            fraction: FIT_SHARE + (0.95 - FIT_SHARE) * (sum / total as f64).min(1.0),
+            message: msg,
+        });
+    };
+    let on_level = |k: EffectKind, segments: usize, cost: f64| {
+        if let Ok(mut st) = state.lock() {
+            let done = (levels - (segments.max(1) as f64).log2() - 1.0) / levels;
+            let slot = &mut st.0[index(k)];
+            *slot = slot.max(done.clamp(0.0, 0.95));
+            let rms = (cost / base.residual_count.max(1) as f64).sqrt();
+            report(format!("{}: {} segment{}, {:.2} px", k, segments, if segments == 1 { "" } else { "s" }, rms), &st);
+        }
+    };
+    let on_done = |k: EffectKind| {
+        if let Ok(mut st) = state.lock() {
+            st.0[index(k)] = 1.0;
+            st.1 += 1;
+            let msg = format!("{} of {} models fitted over the whole run", st.1, total);
+            report(msg, &st);
+        }
+    };
+    fit_all(ms, &base.segment_states, &kinds, &on_level, &on_done, cancel).map_err(|e| match e {
+        LmError::Cancelled => DiagnoseError::Cancelled,
+        LmError::BadStart => DiagnoseError::Baseline,
+    })
+}
+
+/// Point A of a frame: the centroid of its marks when all four are tracked.
+fn centroid(f: &FrameMarks) -> Option<[f64; 2]> {
+    let mut s = [0.0; 2];
+    for m in f {
+        let m = (*m)?;
+        s[0] += m[0] / 4.0;
+        s[1] += m[1] / 4.0;
+    }
+    Some(s)
+}
+
+fn predicted_centroid(p: &[[f64; 2]; 4]) -> [f64; 2] {
+    [p.iter().map(|m| m[0]).sum::<f64>() / 4.0, p.iter().map(|m| m[1]).sum::<f64>() / 4.0]
+}
+
+fn image_size(base: &FitResult, rec: &Recording) -> [f64; 2] {
+    match (rec.header.image_width_px, rec.header.image_height_px) {
+        (Some(w), Some(h)) => [w, h],
+        _ => [2.0 * base.camera.centre_px[0], 2.0 * base.camera.centre_px[1]],
+    }
+}

@@ -1,0 +1,153 @@
+//! The diagnosis's misfit: one prediction of the whole run from one start state (single
+//! shooting), reached from the multiple-shooting fit by merging its segments pairwise until
+//! one is left (see the module doc of `analysis::diagnose` for why).
+
+use crate::analysis::fit::lm::{self, LmError, LmOptions};
+use crate::analysis::fit::shooting::{PredictedMarks, Shooting, predict_samples};
+use crate::analysis::fit::{Free, ModelSpec};
+use crate::physics::effects::EffectKind;
+use crate::physics::{Model, Sample, StateVec};
+use crate::recording::Camera;
+use rayon::prelude::*;
+use std::ops::Range;
+use std::sync::atomic::AtomicBool;
+
+/// Iterations allowed at each intermediate segmentation (they only need to keep the path in
+/// the right valley), and at the final single segment.
+const LEVEL_ITERATIONS: usize = 8;
+const FINAL_ITERATIONS: usize = 30;
+
+/// A model fitted to the whole run from one state.
+#[derive(Clone, Debug)]
+pub struct WholeFit {
+    /// The effect fitted (`None` for the baseline).
+    pub kind: EffectKind,
+    pub c: [f64; 3],
+    pub c_sigma: [f64; 3],
+    /// The effect's strength and its sigma (infinite where the data do not constrain it).
+    pub strength: Option<(f64, f64)>,
+    /// The start state at the first frame of `span` (model units).
+    pub start: StateVec,
+    /// Frames predicted: from the first inner turning point to the still end.
+    pub span: Range<usize>,
+    /// Sum of squared pixel residuals, their number, and the free parameters (drag, effect,
+    /// start state).
+    pub cost: f64,
+    pub residual_count: usize,
+    pub parameter_count: usize,
+    pub model: Model,
+    pub camera: Camera,
+    pub iterations: usize,
+    /// The internal parameters (`ln C`, strength): where a refit can start.
+    pub internal: Vec<f64>,
+}
+
+impl WholeFit {
+    /// RMS of model minus recording over every tracked mark coordinate of the span (px).
+    pub fn rms_px(&self) -> f64 {
+        (self.cost / self.residual_count.max(1) as f64).sqrt()
+    }
+
+    /// The model's samples at the span's frames (the final pose repeated after its end).
+    pub fn samples(&self, sh: &Shooting) -> Option<Vec<Sample>> {
+        predict_samples(&self.model, &sh.run, sh.dt, &self.start, self.span.clone())
+    }
+
+    /// The predicted marks at the span's frames (px).
+    pub fn marks(&self, sh: &Shooting) -> Option<PredictedMarks> {
+        Some(self.samples(sh)?.iter().map(|s| sh.project(&self.camera, s)).collect())
+    }
+}
+
+/// The multiple-shooting problem `ms` with `kind`'s strength free as a fourth global.
+pub fn with_effect<'a>(ms: &Shooting<'a>, kind: EffectKind) -> Shooting<'a> {
+    let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
+    if kind != EffectKind::None {
+        free.push(Free::Effect(kind));
+    }
+    Shooting { spec: ModelSpec { free, ..ms.spec.clone() }, ..ms.clone() }
+}
+
+/// The internal globals of `sh` at the base model's drag and `strength` (if an effect is free).
+pub fn start_globals(sh: &Shooting, strength: f64) -> Vec<f64> {
+    let mut g = sh.spec.to_internal(&sh.spec.initial_values());
+    if let Some(x) = g.get_mut(3) {
+        *x = strength;
+    }
+    g
+}
+
+/// The multiple-shooting cost of `sh` at `global` with the segments' states held (infinite
+/// where the model cannot run): how well a strength suits the data before any refit.
+pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
+    (0..sh.segments.len())
+        .into_par_iter()
+        .map(|s| sh.segment_residuals(s, global, &states[s]).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum()))
+        .sum()
+}
+
+/// Fits the whole run with `sh`'s globals free from `global` (see [`with_effect`]), the
+/// segments' start states from `states`: the segments are merged pairwise, each time
+/// refitted, until one prediction spans the run. Every candidate walks the same path from the
+/// baseline's segments, so the misfits compare. With one segment it is plain single shooting.
+pub fn fit_whole(
+    sh: &Shooting,
+    global: Vec<f64>,
+    states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
+    let kind = match sh.spec.free.get(3) {
+        Some(Free::Effect(k)) => *k,
+        _ => EffectKind::None,
+    };
+    let mut sh = sh.clone();
+    let mut global = global;
+    let mut locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
+    let mut iterations = 0;
+    let sol = loop {
+        let last = sh.segments.len() == 1;
+        let opts = LmOptions {
+            max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
+            rel_tol: if last { 1e-7 } else { 1e-4 },
+            ..LmOptions::default()
+        };
+        let segments = sh.segments.len();
+        let sol = lm::solve(&sh, global, locals, &opts, &mut |_, cost| on_iteration(segments, cost), cancel)?;
+        iterations += sol.iterations;
+        if last {
+            break sol;
+        }
+        sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        locals = sol.local.iter().step_by(2).cloned().collect();
+        global = sol.global;
+    };
+    let values = sh.spec.to_values(&sol.global);
+    let jac = sh.spec.value_per_internal(&sol.global);
+    let params = sol.global.len() + 8;
+    let variance = sol.cost / sol.residual_count.saturating_sub(params).max(1) as f64;
+    let sigma = |i: usize| {
+        sol.global_cov_unscaled
+            .as_ref()
+            .map(|c| c[(i, i)])
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .map_or(f64::INFINITY, |v| jac[i] * (variance * v).sqrt())
+    };
+    let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
+    let start: StateVec = sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
+    Ok(WholeFit {
+        kind,
+        c: [values[0], values[1], values[2]],
+        c_sigma: [sigma(0), sigma(1), sigma(2)],
+        strength: (kind != EffectKind::None).then(|| (values[3], sigma(3))),
+        start,
+        span: sh.segments[0].clone(),
+        cost: sol.cost,
+        residual_count: sol.residual_count,
+        parameter_count: params,
+        model,
+        camera,
+        iterations,
+        internal: sol.global,
+    })
+}
