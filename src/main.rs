@@ -26,6 +26,8 @@ enum Command {
     Fit(cli::fit::FitArgs),
     /// Name the physics the model left out of a recording (or none), show the fit improve
     Diagnose(cli::diagnose::DiagnoseArgs),
+    /// The diagnosis on recordings with a concealed effect: hit rates, misfits, false alarms
+    DiagnoseBench(cli::diagnose_bench::DiagnoseBenchArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
     /// List the presets
@@ -43,6 +45,7 @@ fn main() -> Result<()> {
         Some(Command::Recover(a)) => cli::recover::run(&a),
         Some(Command::Fit(a)) => cli::fit::run(&a),
         Some(Command::Diagnose(a)) => cli::diagnose::run(&a),
+        Some(Command::DiagnoseBench(a)) => cli::diagnose_bench::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
         Some(Command::Effects) => {
             use ringlab::physics::EffectKind;

@@ -216,10 +216,11 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
         let strength = c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));
         match &c.error {
             Some(e) => println!("  {:<20} failed: {e}", c.effect.name()),
-            None => println!("  {:<20} {:>9.3} px  {:>+10.1}{strength}", c.effect.name(), c.rms_px, c.delta_score),
+            None => println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}", c.effect.name(), c.rms_px, c.delta_score, c.seconds),
         }
     }
     println!();
     println!("{}", d.explanation);
-    println!("{:.1} s", d.compute_seconds);
+    let stages: Vec<String> = d.stage_seconds.iter().map(|(n, s)| format!("{n} {s:.1} s")).collect();
+    println!("{:.1} s ({})", d.compute_seconds, stages.join(", "));
 }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod bench_recording;
 pub mod case_args;
 pub mod diagnose;
+pub mod diagnose_bench;
 pub mod diagnose_report;
 pub mod effect_args;
 pub mod fit;

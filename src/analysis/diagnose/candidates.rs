@@ -1,51 +1,57 @@
 //! The candidates: each effect refitted over the whole run with its strength free, next to
 //! the baseline, all on the same misfit ([`super::whole`]).
 //!
-//! A candidate's path: its strength is first chosen from a few values spanning its
-//! realistic range by the multiple-shooting cost at the baseline's segment states (cheap: one
-//! run of the recording each); then the segments are merged down to one. Two safeguards keep
-//! the comparison fair where a least-squares path ends in a side valley: a candidate nests
+//! Paths: the baseline walks from its multiple-shooting segments down to one; each candidate
+//! joins that path where it has [`JOIN_SEGMENTS`] segments or fewer (long stretches that still
+//! re-anchor), with its strength chosen there from a few values spanning its realistic range
+//! by the cost at the baseline's states (one run of the recording each), and walks on down to
+//! one segment. Two safeguards keep the comparison fair where a least-squares path ends in a
+//! side valley: the baseline is refitted from the best candidate's drag and start, so that
+//! "before" is the baseline at its best and not one that stopped early; and a candidate nests
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
-//! baseline is refitted from the baseline's solution; and the baseline is refitted from the
-//! best candidate's drag and start, so that "before" is the baseline at its best, not a
-//! baseline that happened to stop early.
+//! baseline is refitted from the baseline's solution.
 
-use super::whole::{WholeFit, fit_whole, segment_cost, start_globals, with_effect};
-use crate::analysis::fit::lm::LmError;
+use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, segment_cost, with_effect};
+use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::Shooting;
 use crate::physics::effects::EffectKind;
-use crate::physics::slip::painleve_mu_limit;
 use crate::physics::StateVec;
+use crate::physics::slip::painleve_mu_limit;
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
 
-/// Strengths tried first for `kind`: half the realistic range's low end, its ends, its middle
-/// and twice its high end (both signs for the lens, whose realistic range is barrel only but
-/// whose sign the data decide). Slip: up to the Painleve limit `mu_max`.
+/// Where the candidates join the baseline's path: the first stage with at most this many
+/// segments.
+pub const JOIN_SEGMENTS: usize = 4;
+
+/// Strengths tried first for `kind`: its baseline strength (zero: no effect), and nine
+/// log-spaced values from half the realistic range's low end to twice its high end (both
+/// signs for the lens: its realistic range is barrel only, the data decide the sign). Slip:
+/// from half the low end to just below the Painleve limit `mu_max`. Dense, because over long
+/// stretches the misfit is steep in the strength.
 pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
     let (lo, hi) = kind.realistic_range();
+    let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> { (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect() };
     match kind {
         EffectKind::None => vec![0.0],
-        EffectKind::CameraDistortion => vec![-2.0 * lo.abs(), lo, 0.5 * (lo + hi), hi, -hi, -lo],
-        EffectKind::Slip => {
-            let mut v: Vec<f64> = [0.5 * lo, lo, (lo * hi).sqrt(), hi, 0.5 * (hi + mu_max), 0.98 * mu_max]
-                .into_iter()
-                .filter(|&m| m < 0.98 * mu_max + 1e-12)
-                .collect();
-            v.dedup_by(|a, b| (*a - *b).abs() < 1e-3);
-            v
+        EffectKind::CameraDistortion => {
+            let mags = spaced(0.5 * hi.abs(), 2.0 * lo.abs(), 9);
+            std::iter::once(0.0).chain(mags.iter().map(|m| -m)).chain(mags.iter().copied()).collect()
         }
-        _ => vec![0.5 * lo, lo, (lo * hi).sqrt(), hi, 2.0 * hi],
+        EffectKind::Slip => spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect(),
+        _ => std::iter::once(0.0).chain(spaced(0.5 * lo, 2.0 * hi, 9)).collect(),
     }
 }
 
-/// The strength that small: where a candidate starts from the baseline's own solution.
+/// The strength at which a candidate starts from the baseline's own solution: the baseline
+/// itself (zero; slip: the largest `mu` allowed, closest to pure rolling). Not a small
+/// strength: over a whole run the misfit is so sensitive that even a tenth of a realistic
+/// strength lands far up the valley's side (Reynolds drag: n = 0.025 raises a noise-level
+/// misfit 7000-fold, and the least squares then crawl back).
 pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
-    let (lo, _) = kind.realistic_range();
-    match kind {
-        EffectKind::Slip => 0.98 * mu_max,
-        EffectKind::CameraDistortion => 0.1 * lo,
-        _ => 0.1 * lo,
+    match kind.baseline_strength() {
+        Some(s) => s,
+        None => 0.98 * mu_max,
     }
 }
 
@@ -54,31 +60,54 @@ pub fn mu_limit(sh: &Shooting) -> f64 {
     painleve_mu_limit(&sh.spec.base)
 }
 
-/// Fits one candidate along its path (see the module doc). `on_iteration(segments, cost)`.
+/// Fits `kind` from the baseline's stage `join` on down to one segment (see the module doc);
+/// from the baseline's own whole-run solution `baseline` instead where the data at `join`
+/// prefer no effect at all, or where the candidate, re-anchored at every stretch of `join`,
+/// still fits worse than the baseline does over the whole run (then it cannot win: one
+/// prediction over the whole run fits no better than several). `on_iteration(segments, cost)`.
 pub fn fit_candidate(
     ms: &Shooting,
-    states: &[StateVec],
+    join: &Level,
+    baseline: &WholeFit,
     kind: EffectKind,
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
-    let sh = with_effect(ms, kind);
+    let clock = std::time::Instant::now();
     let mu_max = mu_limit(ms);
+    let from_baseline = |clock: std::time::Instant| {
+        let mut w = refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?;
+        w.seconds = clock.elapsed().as_secs_f64();
+        Ok(w)
+    };
+    let mut sh = with_effect(ms, kind);
+    sh.segments = join.segments.clone();
     let trials = trial_strengths(kind, mu_max);
-    let costs: Vec<f64> = trials.iter().map(|&s| segment_cost(&sh, &start_globals(&sh, s), states)).collect();
+    let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain([s]).collect()).collect();
+    let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
     let best = (0..trials.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
-    fit_whole(&sh, start_globals(&sh, trials[best]), states, on_iteration, cancel)
+    if Some(trials[best]) == kind.baseline_strength() {
+        return from_baseline(clock);
+    }
+    let segments = sh.segments.len();
+    let opts = LmOptions { max_iterations: LEVEL_ITERATIONS, rel_tol: 1e-4, ..LmOptions::default() };
+    let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
+    let first = lm::solve(&sh, globals[best].clone(), locals, &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
+    if segments > 1 && first.cost > baseline.cost {
+        return from_baseline(clock);
+    }
+    if segments > 1 {
+        sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+    }
+    let states: Vec<StateVec> = first.local.iter().step_by(if segments > 1 { 2 } else { 1 }).map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+    let mut fit = fit_whole(&sh, first.global, &states, on_iteration, cancel)?;
+    fit.seconds = clock.elapsed().as_secs_f64();
+    Ok(fit)
 }
 
-/// Refits `kind` over the whole run as one segment from `from`'s drag and start state (the
-/// strength `strength`, for a candidate): the safeguards of the module doc.
-pub fn refit_from(
-    ms: &Shooting,
-    kind: EffectKind,
-    from: &WholeFit,
-    strength: f64,
-    cancel: &AtomicBool,
-) -> Result<WholeFit, LmError> {
+/// Refits `kind` over the whole run as one segment from `from`'s drag and start state (at
+/// `strength`, for a candidate): the safeguards of the module doc.
+pub fn refit_from(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
     let mut sh = with_effect(ms, kind);
     sh.segments = vec![from.span.clone()];
     let mut g = from.internal[..3].to_vec();
@@ -88,47 +117,47 @@ pub fn refit_from(
     fit_whole(&sh, g, &[from.start], &mut |_, _| {}, cancel)
 }
 
-/// The baseline and every candidate, fitted in parallel, with the safeguards applied.
-/// `progress(kind, segments, cost)` as each path goes on; `done(kind)` when one is fitted.
-pub fn fit_all(
+/// The baseline's path from the multiple-shooting fit (`ms`, its segment `states`).
+pub fn fit_baseline(
     ms: &Shooting,
     states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<Level>), LmError> {
+    let sh = with_effect(ms, EffectKind::None);
+    let g = sh.spec.to_internal(&sh.spec.initial_values());
+    fit_path(&sh, g, states, on_iteration, cancel)
+}
+
+/// The candidates along the baseline's path (`baseline`, `levels`), fitted in parallel, and the
+/// baseline with the safeguards applied. `progress(kind, segments, cost)` as each path goes
+/// on; `done(kind)` when one is fitted.
+pub fn fit_candidates(
+    ms: &Shooting,
+    baseline: WholeFit,
+    levels: &[Level],
     kinds: &[EffectKind],
     progress: &(dyn Fn(EffectKind, usize, f64) + Sync),
     done: &(dyn Fn(EffectKind) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
-    let mut all: Vec<EffectKind> = vec![EffectKind::None];
-    all.extend(kinds.iter().copied().filter(|&k| k != EffectKind::None));
-    let fits: Vec<(EffectKind, Result<WholeFit, LmError>)> = all
+    let join = levels.iter().find(|l| l.segments.len() <= JOIN_SEGMENTS).or(levels.last()).ok_or(LmError::BadStart)?;
+    // The slowest first (sliding runs cost most), so that it does not finish alone.
+    let mut order: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    order.sort_by_key(|&k| k != EffectKind::Slip);
+    let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
         .map(|&k| {
-            let r = fit_candidate(ms, states, k, &mut |segments, cost| progress(k, segments, cost), cancel);
+            let r = fit_candidate(ms, join, &baseline, k, &mut |segments, cost| progress(k, segments, cost), cancel);
             done(k);
             (k, r)
         })
         .collect();
-    let mut fits = fits.into_iter();
-    let mut baseline = match fits.next() {
-        Some((_, r)) => r?,
-        None => return Err(LmError::BadStart),
-    };
-    let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = fits.collect();
-    let mu_max = mu_limit(ms);
     if candidates.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
         return Err(LmError::Cancelled);
     }
-    // A candidate that ended worse than the model it contains: again from the baseline.
-    candidates.par_iter_mut().for_each(|(k, r)| {
-        let worse = r.as_ref().map_or(true, |w| w.cost > baseline.cost);
-        if worse && let Ok(w) = refit_from(ms, *k, &baseline, near_baseline_strength(*k, mu_max), cancel) {
-            match r {
-                Ok(old) if old.cost <= w.cost => {}
-                _ => *r = Ok(w),
-            }
-        }
-    });
     // The baseline from the best candidate's drag and start.
+    let mut baseline = baseline;
     let best = candidates.iter().filter_map(|(_, r)| r.as_ref().ok()).min_by(|a, b| a.cost.total_cmp(&b.cost));
     if let Some(best) = best
         && best.cost < baseline.cost
@@ -138,5 +167,20 @@ pub fn fit_all(
             baseline = again;
         }
     }
+    // A candidate that ended worse than the model it contains: again from the baseline.
+    let mu_max = mu_limit(ms);
+    candidates.par_iter_mut().for_each(|(k, r)| {
+        let worse = r.as_ref().map_or(true, |w| w.cost > baseline.cost);
+        let before = r.as_ref().map_or(0.0, |w| w.seconds);
+        if worse && let Ok(mut w) = refit_from(ms, *k, &baseline, near_baseline_strength(*k, mu_max), cancel) {
+            match r {
+                Ok(old) if old.cost <= w.cost => old.seconds += w.seconds,
+                _ => {
+                    w.seconds += before;
+                    *r = Ok(w);
+                }
+            }
+        }
+    });
     Ok((baseline, candidates))
 }

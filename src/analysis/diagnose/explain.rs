@@ -48,28 +48,47 @@ fn end_clause(s: &Signature) -> String {
 
 fn thirds(s: &Signature) -> String {
     let [a, b, c] = s.thirds_rms_px;
-    format!("{a:.2}, {b:.2} and {c:.2} px rms in the first, middle and last third of the run")
+    format!("{a:.2}, {b:.2} and {c:.2} px rms in the first, middle and last third")
+}
+
+/// Where the baseline parts from the recording, in words.
+fn departure_words(d: &Diagnosis) -> String {
+    let s = &d.signature;
+    match s.departure_s {
+        Some(t) => format!(
+            "Fitted to a growing stretch from the start, the baseline follows the recording within its noise up to {t:.2} s ({:.0}% of the run) and no further; fitted to the whole run it misses by {}.",
+            100.0 * s.followed_share,
+            thirds(s)
+        ),
+        None => format!("The baseline, fitted to the whole run, misses by {}.", thirds(s)),
+    }
+}
+
+/// A length given as a fraction of the outer radius, in mm.
+fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
+    let r_mm = d.after.model.body.r * d.after.units.length_mm;
+    format!("{} mm", sig(k_over_r * r_mm))
 }
 
 /// Why the signature points to the named effect.
 fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     let s = &d.signature;
-    let late = 100.0 * s.late_share;
+    let strength = d.after.strength.map_or(f64::NAN, |x| x.0);
+    let late = if s.late_share > 0.5 { format!(" {:.0}% of the whole-run misfit beyond the noise lies in the last third.", 100.0 * s.late_share) } else { String::new() };
     match kind {
         EffectKind::ReynoldsDrag => format!(
-            "The signature is at the end of the run: {late:.0}% of the baseline's misfit beyond the noise lies in the last third ({}).{} Constant drag coefficients cannot both damp the early cycloids at the recorded rate and end the final spiral in time; coefficients that grow as the ring slows can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests an exponent near 1/2.",
-            thirds(s),
+            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.",
             end_clause(s)
         ),
         EffectKind::RollingFriction => format!(
-            "The mismatch builds up along the run ({}).{} A rolling-resistance torque k F_N takes energy at a rate that does not fall with the square of the speed, as air drag does; fitted drag alone cannot match the decay of the fast start and of the slow end together.",
-            thirds(s),
-            end_clause(s)
+            "A rolling-resistance torque k F_N takes energy at a rate that does not grow with the square of the speed as air drag does, so the fitted drag cannot match the decay of the fast start and of the slow end together.{late}{} Here the normal force acts {} ahead of the contact point.",
+            end_clause(s),
+            arm_mm(d, strength)
         ),
         EffectKind::PivotFriction => format!(
-            "The mismatch builds up along the run ({}).{} A torque k F_N against the spin about the table normal slows the precession and turns the heading of the path differently from the quadratic drag on the body's axes, which cannot imitate it.",
-            thirds(s),
-            end_clause(s)
+            "A drilling torque k F_N against the spin about the table normal slows the precession and turns the path's heading in a way the quadratic drag on the body's axes cannot imitate.{late}{} Here k = {} (contact-patch radius times a friction coefficient).",
+            end_clause(s),
+            arm_mm(d, strength)
         ),
         EffectKind::Slip => {
             let slides = if s.slides_s.is_empty() {
@@ -85,13 +104,11 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
                 )
             };
             format!(
-                "The path is displaced rather than slowed ({}): each slide shifts it, and the baseline, which must roll, drifts from then on. {slides} The paper names slippage at cuspy turning points as a cause of its drift.",
-                thirds(s)
+                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides} The paper names slippage at cuspy turning points as a cause of its drift."
             )
         }
         EffectKind::TranslationalDrag => format!(
-            "The travel of the ring falls short of the baseline's while its rotation decays as fitted ({}).{} Air drag on the centre of mass slows the translation; the rotational drag of eq. 5 acts on the spin and cannot do that alone.",
-            thirds(s),
+            "Air drag on the centre of mass slows the travel of the ring while the rotational drag of eq. 5 acts on its spin; the two leave different marks on the path's arcs, which the drag coefficients alone cannot reproduce.{late}{}",
             end_clause(s)
         ),
         EffectKind::CameraDistortion => format!(
@@ -118,14 +135,12 @@ pub fn explain(d: &Diagnosis) -> String {
     let runner_up = d.candidates.iter().find(|c| c.effect != d.left_out && c.effect != EffectKind::None);
     let where_ = match &d.mismatch {
         Some(m) => format!(
-            "The baseline departs from the recording beyond its noise from {:.2} s to {:.2} s ({:.2} px rms there, {:.0}% of its misfit beyond the noise){}.",
+            "Mismatch: {:.2} s to {:.2} s. {}",
             m.start_s,
             m.end_s,
-            m.rms_px,
-            100.0 * m.share,
-            if d.windows.len() > 1 { format!("; {} windows in all", d.windows.len()) } else { String::new() }
+            departure_words(d)
         ),
-        None => "The baseline does not depart from the recording beyond its noise in any window.".to_string(),
+        None => "The baseline follows the recording within its noise over the whole run.".to_string(),
     };
     if d.left_out == EffectKind::None {
         let _ = write!(

@@ -1,6 +1,8 @@
 //! Diagnosis (draft doc).
 
 pub mod candidates;
+pub mod concealed;
+pub mod departure;
 pub mod explain;
 mod options;
 pub mod residual;

@@ -44,6 +44,8 @@ pub struct Candidate {
     pub strength: Option<(f64, f64)>,
     /// Why the candidate could not be fitted, if it could not.
     pub error: Option<String>,
+    /// Time its fit took (s; candidates run in parallel).
+    pub seconds: f64,
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
@@ -51,9 +53,10 @@ pub struct Candidate {
 pub struct MismatchWindow {
     pub start_s: f64,
     pub end_s: f64,
-    /// The baseline's RMS residual inside it (px).
+    /// The whole-run baseline's RMS residual inside it (px).
     pub rms_px: f64,
-    /// Its share of all the baseline's squared residual beyond the noise.
+    /// Its share of the squared residual beyond the noise, after the departure, of the
+    /// baseline fitted up to the departure.
     pub share: f64,
 }
 
@@ -70,6 +73,10 @@ pub struct ResidualSeries {
     pub window_before_px: Vec<f64>,
     pub window_after_px: Vec<f64>,
     pub window_threshold_px: Vec<f64>,
+    /// The baseline fitted only to the stretch it follows (up to the departure) and run on:
+    /// per frame and per window (px).
+    pub followed_px: Vec<f64>,
+    pub window_followed_px: Vec<f64>,
 }
 
 /// Point A (the centroid of the marks) in image pixels, frame by frame over the fitted span.
@@ -87,6 +94,11 @@ pub struct Trace {
 /// Measured features of the mismatch that tell the effects apart.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Signature {
+    /// Where the baseline, fitted to a growing stretch from the start, stops following the
+    /// recording within its noise (s; none if it follows the whole run), and that stretch's
+    /// share of the run.
+    pub departure_s: Option<f64>,
+    pub followed_share: f64,
     /// The baseline's RMS residual in the first, middle and last third of the span (px).
     pub thirds_rms_px: [f64; 3],
     /// Share of the baseline's squared residual beyond the noise that lies in the last third.
@@ -110,9 +122,10 @@ pub struct Signature {
 pub struct Diagnosis {
     /// The physics (or measurement) the baseline left out, `None` if nothing earns its keep.
     pub left_out: EffectKind,
-    /// The main mismatch window (the one holding most of the excess), if the baseline departs.
+    /// The mismatch: from where the baseline stops following the recording within its noise
+    /// (fitted to the stretch before) to the last window where it departs; None if it never does.
     pub mismatch: Option<MismatchWindow>,
-    /// Every window where the baseline departs beyond the noise.
+    /// The windows where that baseline departs beyond the noise (joined where close).
     pub windows: Vec<MismatchWindow>,
     /// The recording's pixel noise, estimated from the marks alone (or, failing that, the
     /// baseline's multiple-shooting misfit: `noise_from_marks` false).
@@ -136,5 +149,8 @@ pub struct Diagnosis {
     pub frames: usize,
     pub frames_fitted: usize,
     pub fps: f64,
+    /// Wall-clock time of each stage (s): the multiple-shooting fit, the baseline's path with
+    /// the departure beside it, the candidates, the rest.
+    pub stage_seconds: Vec<(&'static str, f64)>,
     pub compute_seconds: f64,
 }

@@ -1,6 +1,7 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::candidates::fit_all;
+use super::candidates::{fit_baseline, fit_candidates};
+use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
@@ -10,20 +11,29 @@ use super::whole::WholeFit;
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitProgress, FitResult, fit};
-use crate::physics::effects::EffectKind;
 use crate::physics::Initial;
+use crate::physics::effects::EffectKind;
 use crate::recording::{FrameMarks, Recording};
+use std::ops::Range;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-/// Share of the progress bar the baseline's multiple-shooting fit takes.
-const FIT_SHARE: f64 = 0.15;
+/// Shares of the progress bar: the baseline's multiple-shooting fit, then its whole-run path.
+const FIT_SHARE: f64 = 0.12;
+const BASELINE_SHARE: f64 = 0.25;
 
 /// BIC of a fit with `cost` over `n` residuals and `k` parameters.
 pub fn bic(cost: f64, n: usize, k: usize) -> f64 {
     let n = n.max(1) as f64;
     n * (cost / n).max(1e-300).ln() + k as f64 * n.ln()
+}
+
+fn lm_error(e: LmError) -> DiagnoseError {
+    match e {
+        LmError::Cancelled => DiagnoseError::Cancelled,
+        LmError::BadStart => DiagnoseError::Baseline,
+    }
 }
 
 /// Diagnoses a recording: which physics (or measurement effect) the paper's model left out,
@@ -43,44 +53,90 @@ pub fn diagnose(
         rec,
         &opts.fit,
         &|p: &FitProgress| {
-            let within = if p.total > 0 { p.done as f64 / p.total as f64 } else { 0.0 };
-            let stage_index = p.stage as usize as f64;
+            let within = if p.total > 0 { (p.done as f64 / p.total as f64).min(1.0) } else { 0.0 };
             progress(&DiagnoseProgress {
                 stage: DiagnoseStage::BaselineFit(p.stage),
-                fraction: FIT_SHARE * (stage_index + within.min(1.0)) / 5.0,
+                fraction: FIT_SHARE * (p.stage as usize as f64 + within) / 5.0,
                 message: format!("baseline fit: {}", p.stage.describe()),
             })
         },
         cancel,
     )?;
+    let mut stage_seconds = vec![("multiple-shooting fit", clock.elapsed().as_secs_f64())];
+    let lap = Instant::now();
     let ms = base.shooting(&rec.frames);
-    let (baseline, fits) = candidates_stage(&ms, &base, opts, progress, cancel)?;
+    let noise_from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
+    let noise_px = base.noise_px.filter(|_| noise_from_marks).unwrap_or(base.rms_px);
+    let width = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+
+    // The baseline's path and its departure side by side; then the candidates.
+    let levels_total = (base.segments.len().max(1) as f64).log2().ceil() + 1.0;
+    let baseline_progress = Mutex::new(0.0f64);
+    let mut on_baseline = |segments: usize, cost: f64| {
+        let done = (levels_total - (segments.max(1) as f64).log2().ceil() - 1.0) / levels_total;
+        if let Ok(mut d) = baseline_progress.lock() {
+            *d = d.max(done);
+            progress(&DiagnoseProgress {
+                stage: DiagnoseStage::Candidates,
+                fraction: FIT_SHARE + (BASELINE_SHARE - FIT_SHARE) * *d,
+                message: format!("baseline over the whole run: {segments} segments, {:.2} px", (cost / base.residual_count.max(1) as f64).sqrt()),
+            });
+        }
+    };
+    let (path, departure) = rayon::join(
+        || fit_baseline(&ms, &base.segment_states, &mut on_baseline, cancel),
+        || departure::find(&ms, &base.segment_states, noise_px, width, cancel),
+    );
+    let (baseline, levels) = path.map_err(lm_error)?;
+    let departure = departure.map_err(lm_error)?;
+    stage_seconds.push(("baseline over the whole run, departure", lap.elapsed().as_secs_f64()));
+    let lap = Instant::now();
+    let (baseline, fits) = candidates_stage(&ms, baseline, &levels, opts, progress, cancel)?;
+    stage_seconds.push(("candidates", lap.elapsed().as_secs_f64()));
+    let lap = Instant::now();
     progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
 
     let n = baseline.residual_count;
     let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let none_score = score(&baseline);
     let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
-        Candidate { effect: EffectKind::None, rms_px: baseline.rms_px(), score: none_score, delta_score: 0.0, strength: None, error: None },
+        Candidate {
+            effect: EffectKind::None,
+            rms_px: baseline.rms_px(),
+            score: none_score,
+            delta_score: 0.0,
+            strength: None,
+            error: None,
+            seconds: baseline.seconds,
+        },
         Some(&baseline),
     )];
     for (kind, r) in &fits {
         ranked.push(match r {
-            Ok(w) => (
-                Candidate {
+            Ok(w) => {
+                let c = Candidate {
                     effect: *kind,
                     rms_px: w.rms_px(),
                     score: score(w),
                     delta_score: score(w) - none_score,
                     strength: w.strength,
                     error: None,
-                },
-                Some(w),
-            ),
-            Err(e) => (
-                Candidate { effect: *kind, rms_px: f64::NAN, score: f64::INFINITY, delta_score: f64::INFINITY, strength: None, error: Some(e.to_string()) },
-                None,
-            ),
+                    seconds: w.seconds,
+                };
+                (c, Some(w))
+            }
+            Err(e) => {
+                let c = Candidate {
+                    effect: *kind,
+                    rms_px: f64::NAN,
+                    score: f64::INFINITY,
+                    delta_score: f64::INFINITY,
+                    strength: None,
+                    error: Some(e.to_string()),
+                    seconds: 0.0,
+                };
+                (c, None)
+            }
         });
     }
     ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
@@ -92,55 +148,44 @@ pub fn diagnose(
         .and_then(|(_, w)| *w)
         .unwrap_or(&baseline);
 
-    let noise_from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
-    let noise_px = base.noise_px.filter(|_| noise_from_marks).unwrap_or(base.rms_px);
     let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
     let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_followed = departure.fit.marks(&ms).ok_or(DiagnoseError::Baseline)?;
     let span = baseline.span.clone();
     let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
     let to_s = |t_model: f64| time_s(t_model / base.dt);
 
     let sums_before = frame_sums(&rec.frames, span.clone(), &pred_before);
     let sums_after = frame_sums(&rec.frames, span.clone(), &pred_after);
-    let width = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+    let sums_followed = frame_sums(&rec.frames, span.clone(), &pred_followed);
     let win_before = windows(&sums_before, noise_px, width);
     let win_after = windows(&sums_after, noise_px, width);
-    let total_excess: f64 = win_before.iter().map(|w| w.excess.max(0.0)).sum();
-    let found: Vec<MismatchWindow> = departures(&win_before)
-        .into_iter()
-        .map(|(r, excess)| {
-            let (s, c) = sums_before[r.clone()].iter().fold((0.0, 0usize), |a, x| (a.0 + x.0, a.1 + x.1));
-            MismatchWindow {
-                start_s: time_s((span.start + r.start) as f64),
-                end_s: time_s((span.start + r.end) as f64),
-                rms_px: if c > 0 { (s / c as f64).sqrt() } else { f64::NAN },
-                share: if total_excess > 0.0 { (excess / total_excess).clamp(0.0, 1.0) } else { 0.0 },
-            }
-        })
-        .collect();
-    let mismatch = found.iter().max_by(|a, b| a.share.total_cmp(&b.share)).cloned();
+    let win_followed = windows(&sums_followed, noise_px, width);
+    let (mismatch, found) = mismatch_windows(&departure, &span, &sums_followed, &win_followed, &sums_before, noise_px, &time_s);
 
     let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
     let (end_before, _) = run_end(&baseline, &ms, t_stop);
     let (end_after, slides) = run_end(chosen, &ms, t_stop);
     let centre = baseline.camera.centre_px;
     let mut signature = Signature::from_measured(measure(&rec.frames[span.clone()], &sums_before, &pred_before, &pred_after, centre, noise_px));
-    let frames_fitted_end = span.end;
-    signature.end_data_s = (frames_fitted_end < rec.frames.len()).then(|| time_s(frames_fitted_end as f64));
+    signature.end_data_s = (span.end < rec.frames.len()).then(|| time_s(span.end as f64));
     signature.end_before_s = end_before.map(to_s);
     signature.end_after_s = end_after.map(to_s);
     signature.slides_s = slides.into_iter().map(|(a, b)| (to_s(a), to_s(b))).collect();
+    signature.departure_s = departure.departs.then(|| time_s(departure.followed.end as f64));
+    signature.followed_share = departure.followed.len() as f64 / span.len().max(1) as f64;
 
     let t_s: Vec<f64> = span.clone().map(|i| time_s(i as f64)).collect();
-    let window_s = win_before.iter().map(|w| (time_s((span.start + w.frames.start) as f64), time_s((span.start + w.frames.end) as f64))).collect();
     let residuals = ResidualSeries {
         t_s: t_s.clone(),
         before_px: frame_rms(&sums_before),
         after_px: frame_rms(&sums_after),
-        window_s,
+        window_s: win_before.iter().map(|w| (time_s((span.start + w.frames.start) as f64), time_s((span.start + w.frames.end) as f64))).collect(),
         window_before_px: win_before.iter().map(|w| w.rms_px).collect(),
         window_after_px: win_after.iter().map(|w| w.rms_px).collect(),
         window_threshold_px: win_before.iter().map(|w| w.threshold_px).collect(),
+        followed_px: frame_rms(&sums_followed),
+        window_followed_px: win_followed.iter().map(|w| w.rms_px).collect(),
     };
     let trace = Trace {
         t_s,
@@ -149,7 +194,7 @@ pub fn diagnose(
         after_px: pred_after.iter().map(predicted_centroid).collect(),
         image_px: image_size(&base, rec),
     };
-    let model_fit = |w: &WholeFit| ModelFit {
+    let model_fit = |w: &WholeFit, end_s: Option<f64>| ModelFit {
         effect: w.kind,
         rms_px: w.rms_px(),
         cost: w.cost,
@@ -164,20 +209,16 @@ pub fn diagnose(
         model: w.model.clone(),
         camera: w.camera,
         units: base.units,
-        end_s: None,
+        end_s,
     };
-    let mut before = model_fit(&baseline);
-    before.end_s = signature.end_before_s;
-    let mut after = model_fit(chosen);
-    after.end_s = signature.end_after_s;
     let mut d = Diagnosis {
         left_out: chosen.kind,
         mismatch,
         windows: found,
         noise_px,
         noise_from_marks,
-        before,
-        after,
+        before: model_fit(&baseline, signature.end_before_s),
+        after: model_fit(chosen, signature.end_after_s),
         candidates: ranked.into_iter().map(|(c, _)| c).collect(),
         evidence: opts.evidence,
         residuals,
@@ -189,56 +230,91 @@ pub fn diagnose(
         frames: rec.frames.len(),
         frames_fitted: span.len(),
         fps: rec.header.fps,
+        stage_seconds,
         compute_seconds: 0.0,
     };
     d.explanation = explain(&d);
+    d.stage_seconds.push(("residuals, signature, words", lap.elapsed().as_secs_f64()));
     d.compute_seconds = clock.elapsed().as_secs_f64();
     Ok(d)
 }
 
-/// The baseline and the candidates over the whole run, with progress.
+/// The mismatch (from the departure to the last departing window of the baseline fitted up to
+/// it: `sums`, `wins`) and the departing windows after the departure, in seconds; each with
+/// the whole-run baseline's RMS inside it (`before`).
+fn mismatch_windows(
+    departure: &Departure,
+    span: &Range<usize>,
+    sums: &[(f64, usize)],
+    wins: &[super::residual::Window],
+    before: &[(f64, usize)],
+    noise_px: f64,
+    time_s: &dyn Fn(f64) -> f64,
+) -> (Option<MismatchWindow>, Vec<MismatchWindow>) {
+    if !departure.departs {
+        return (None, Vec::new());
+    }
+    let from = departure.followed.end - span.start;
+    let var = noise_px * noise_px;
+    let excess_in = |r: &Range<usize>| sums[r.clone()].iter().map(|x| x.0 - var * x.1 as f64).sum::<f64>().max(0.0);
+    let total = excess_in(&(from..sums.len()));
+    let stats = |r: &Range<usize>| {
+        let (s, c) = before[r.clone()].iter().fold((0.0, 0usize), |a, x| (a.0 + x.0, a.1 + x.1));
+        (if c > 0 { (s / c as f64).sqrt() } else { f64::NAN }, if total > 0.0 { (excess_in(r) / total).min(1.0) } else { 0.0 })
+    };
+    let window = |r: Range<usize>| {
+        let (rms_px, share) = stats(&r);
+        MismatchWindow { start_s: time_s((span.start + r.start) as f64), end_s: time_s((span.start + r.end) as f64), rms_px, share }
+    };
+    let found: Vec<Range<usize>> = departures(wins).into_iter().map(|(r, _)| r.start.max(from)..r.end).filter(|r| r.end > r.start).collect();
+    let end = found.last().map_or(sums.len(), |r| r.end).max(from + 1).min(sums.len());
+    (Some(window(from..end)), found.into_iter().map(window).collect())
+}
+
+/// The candidates along the baseline's path, with progress.
 fn candidates_stage(
     ms: &Shooting,
-    base: &FitResult,
+    baseline: WholeFit,
+    levels: &[super::whole::Level],
     opts: &DiagnoseOptions,
     progress: &(dyn Fn(&DiagnoseProgress) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
     let kinds: Vec<EffectKind> = opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
-    let total = kinds.len() + 1;
-    let levels = (base.segments.len().max(1) as f64).log2() + 1.0;
-    // Each path's progress: the share of its merge levels done.
+    let total = kinds.len().max(1) as f64;
+    let residuals = baseline.residual_count.max(1) as f64;
     let state = Mutex::new((vec![0.0f64; EffectKind::ALL.len()], 0usize));
     let index = |k: EffectKind| EffectKind::ALL.iter().position(|&x| x == k).unwrap_or(0);
     let report = |msg: String, st: &(Vec<f64>, usize)| {
         let sum: f64 = st.0.iter().sum();
         progress(&DiagnoseProgress {
             stage: DiagnoseStage::Candidates,
-            fraction: FIT_SHARE + (0.95 - FIT_SHARE) * (sum / total as f64).min(1.0),
+            fraction: BASELINE_SHARE + (0.95 - BASELINE_SHARE) * (sum / total).min(1.0),
             message: msg,
         });
     };
+    // A candidate's path: three stages (four segments, two, one).
     let on_level = |k: EffectKind, segments: usize, cost: f64| {
         if let Ok(mut st) = state.lock() {
-            let done = (levels - (segments.max(1) as f64).log2() - 1.0) / levels;
             let slot = &mut st.0[index(k)];
-            *slot = slot.max(done.clamp(0.0, 0.95));
-            let rms = (cost / base.residual_count.max(1) as f64).sqrt();
-            report(format!("{}: {} segment{}, {:.2} px", k, segments, if segments == 1 { "" } else { "s" }, rms), &st);
+            *slot = slot.max(match segments {
+                0..=1 => 0.67,
+                2 => 0.33,
+                _ => 0.0,
+            });
+            let rms = (cost / residuals).sqrt();
+            report(format!("{k}: {segments} segment{}, {rms:.2} px", if segments == 1 { "" } else { "s" }), &st);
         }
     };
     let on_done = |k: EffectKind| {
         if let Ok(mut st) = state.lock() {
             st.0[index(k)] = 1.0;
             st.1 += 1;
-            let msg = format!("{} of {} models fitted over the whole run", st.1, total);
+            let msg = format!("{} of {} candidates fitted over the whole run", st.1, kinds.len());
             report(msg, &st);
         }
     };
-    fit_all(ms, &base.segment_states, &kinds, &on_level, &on_done, cancel).map_err(|e| match e {
-        LmError::Cancelled => DiagnoseError::Cancelled,
-        LmError::BadStart => DiagnoseError::Baseline,
-    })
+    fit_candidates(ms, baseline, levels, &kinds, &on_level, &on_done, cancel).map_err(lm_error)
 }
 
 /// Point A of a frame: the centroid of its marks when all four are tracked.

@@ -14,8 +14,8 @@ use std::sync::atomic::AtomicBool;
 
 /// Iterations allowed at each intermediate segmentation (they only need to keep the path in
 /// the right valley), and at the final single segment.
-const LEVEL_ITERATIONS: usize = 8;
-const FINAL_ITERATIONS: usize = 30;
+pub const LEVEL_ITERATIONS: usize = 6;
+const FINAL_ITERATIONS: usize = 20;
 
 /// A model fitted to the whole run from one state.
 #[derive(Clone, Debug)]
@@ -40,6 +40,8 @@ pub struct WholeFit {
     pub iterations: usize,
     /// The internal parameters (`ln C`, strength): where a refit can start.
     pub internal: Vec<f64>,
+    /// Time this fit took (s), its path included.
+    pub seconds: f64,
 }
 
 impl WholeFit {
@@ -80,10 +82,19 @@ pub fn start_globals(sh: &Shooting, strength: f64) -> Vec<f64> {
 /// The multiple-shooting cost of `sh` at `global` with the segments' states held (infinite
 /// where the model cannot run): how well a strength suits the data before any refit.
 pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
-    (0..sh.segments.len())
+    let costs: Vec<f64> = (0..sh.segments.len())
         .into_par_iter()
         .map(|s| sh.segment_residuals(s, global, &states[s]).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum()))
-        .sum()
+        .collect();
+    costs.iter().sum()
+}
+
+/// One stage of a path: its segments, globals and segment states after its fit.
+#[derive(Clone, Debug)]
+pub struct Level {
+    pub segments: Vec<Range<usize>>,
+    pub global: Vec<f64>,
+    pub states: Vec<StateVec>,
 }
 
 /// Fits the whole run with `sh`'s globals free from `global` (see [`with_effect`]), the
@@ -97,6 +108,18 @@ pub fn fit_whole(
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
+    fit_path(sh, global, states, on_iteration, cancel).map(|(w, _)| w)
+}
+
+/// [`fit_whole`], and the fitted stages of its path (for other paths to start from).
+pub fn fit_path(
+    sh: &Shooting,
+    global: Vec<f64>,
+    states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<Level>), LmError> {
+    let clock = std::time::Instant::now();
     let kind = match sh.spec.free.get(3) {
         Some(Free::Effect(k)) => *k,
         _ => EffectKind::None,
@@ -105,6 +128,7 @@ pub fn fit_whole(
     let mut global = global;
     let mut locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
     let mut iterations = 0;
+    let mut levels = Vec::new();
     let sol = loop {
         let last = sh.segments.len() == 1;
         let opts = LmOptions {
@@ -115,6 +139,11 @@ pub fn fit_whole(
         let segments = sh.segments.len();
         let sol = lm::solve(&sh, global, locals, &opts, &mut |_, cost| on_iteration(segments, cost), cancel)?;
         iterations += sol.iterations;
+        levels.push(Level {
+            segments: sh.segments.clone(),
+            global: sol.global.clone(),
+            states: sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect(),
+        });
         if last {
             break sol;
         }
@@ -135,7 +164,7 @@ pub fn fit_whole(
     };
     let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
     let start: StateVec = sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
-    Ok(WholeFit {
+    let fit = WholeFit {
         kind,
         c: [values[0], values[1], values[2]],
         c_sigma: [sigma(0), sigma(1), sigma(2)],
@@ -149,5 +178,7 @@ pub fn fit_whole(
         camera,
         iterations,
         internal: sol.global,
-    })
+        seconds: clock.elapsed().as_secs_f64(),
+    };
+    Ok((fit, levels))
 }

@@ -8,7 +8,7 @@
 
 use super::params::ModelSpec;
 use super::lm::BlockProblem;
-use crate::physics::model::STATE_LEN;
+use crate::physics::model::{STATE_LEN, ix};
 use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
@@ -123,6 +123,56 @@ impl BlockProblem for Shooting<'_> {
     }
     fn local_step(&self, _: usize, value: f64) -> f64 {
         1e-6 * value.abs().max(1.0)
+    }
+    fn symmetric_locals(&self) -> &[usize] {
+        &SYMMETRIC
+    }
+    fn symmetry_columns(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
+        self.symmetry_columns_of(s, global, local)
+    }
+}
+
+/// The start-state components whose effect on a prediction follows without integrating: the
+/// table has no preferred place or heading (moving `x_C, y_C` translates the whole path,
+/// turning `phi` turns it about the start's centre of mass) and the body is symmetric about
+/// its axis (`psi` only turns the marks). Every force of the model and its effects respects
+/// this, sliding included.
+const SYMMETRIC: [usize; 4] = [ix::PHI, ix::PSI, ix::X, ix::Y];
+
+impl Shooting<'_> {
+    /// Forward-difference columns for [`SYMMETRIC`] from one run: the samples moved, turned
+    /// or spun, and projected again.
+    fn symmetry_columns_of(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let (model, camera) = self.spec.build(global)?;
+        let y0: StateVec = local.try_into().ok()?;
+        if y0.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let samples = predict_samples(&model, &self.run, self.dt, &y0, self.segments[s].clone())?;
+        let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks { samples.iter().map(|x| self.project(&camera, &f(x))).collect() };
+        let base = self.residuals_of(s, &project(&|x| *x));
+        let (cx, cy) = (y0[ix::X], y0[ix::Y]);
+        let cols = SYMMETRIC.map(|i| {
+            let h = self.local_step(i, y0[i]);
+            let moved = project(&|x: &Sample| {
+                let mut m = *x;
+                match i {
+                    ix::X => m.x_a += h,
+                    ix::Y => m.y_a += h,
+                    ix::PSI => m.y[ix::PSI] += h,
+                    _ => {
+                        let (sn, cs) = h.sin_cos();
+                        let (dx, dy) = (x.x_a - cx, x.y_a - cy);
+                        m.x_a = cx + cs * dx - sn * dy;
+                        m.y_a = cy + sn * dx + cs * dy;
+                        m.y[ix::PHI] += h;
+                    }
+                }
+                m
+            });
+            self.residuals_of(s, &moved).iter().zip(&base).map(|(a, b)| (a - b) / h).collect()
+        });
+        Some(cols.to_vec())
     }
 }
 
