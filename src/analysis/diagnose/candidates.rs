@@ -2,10 +2,12 @@
 //! the baseline, all on the same misfit ([`super::whole`]).
 //!
 //! Paths: the baseline walks from its multiple-shooting segments down to one; each candidate
-//! joins that path where it has [`JOIN_SEGMENTS`] segments or fewer (long stretches that still
-//! re-anchor), with its strength chosen there from a few values spanning its realistic range
-//! by the cost at the baseline's states (one run of the recording each), and walks on down to
-//! one segment. Two safeguards keep the comparison fair where a least-squares path ends in a
+//! starts where the baseline does, with its strength chosen there from values spanning its
+//! realistic range by the cost at the baseline's states (one run of the recording each), and
+//! walks the same way down to one segment. (Joining the baseline's path further down, at a
+//! few long segments, is cheaper but fails: there the baseline's drag has absorbed so much of
+//! an effect that the scan sees no effect as best, and from the baseline's valley the least
+//! squares do not find the effect's.) Two safeguards keep the comparison fair where a least-squares path ends in a
 //! side valley: the baseline is refitted from the best candidate's drag and start, so that
 //! "before" is the baseline at its best and not one that stopped early; and a candidate nests
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
@@ -20,15 +22,11 @@ use crate::physics::slip::painleve_mu_limit;
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
 
-/// Where the candidates join the baseline's path: the first stage with at most this many
-/// segments.
-pub const JOIN_SEGMENTS: usize = 4;
-
-/// Strengths tried first for `kind`: its baseline strength (zero: no effect), and nine
-/// log-spaced values from half the realistic range's low end to twice its high end (both
-/// signs for the lens: its realistic range is barrel only, the data decide the sign). Slip:
-/// from half the low end to just below the Painleve limit `mu_max`. Dense, because over long
-/// stretches the misfit is steep in the strength.
+/// Strengths tried first for `kind`: nine log-spaced values from half the realistic range's
+/// low end to twice its high end (both signs for the lens: its realistic range is barrel
+/// only, the data decide the sign); slip: from half the low end to just below the Painleve
+/// limit `mu_max`. Not zero: the baseline's drag and states absorb what they can of an
+/// effect, so at them no effect always looks best.
 pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
     let (lo, hi) = kind.realistic_range();
     let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> { (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect() };
@@ -36,10 +34,10 @@ pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
         EffectKind::None => vec![0.0],
         EffectKind::CameraDistortion => {
             let mags = spaced(0.5 * hi.abs(), 2.0 * lo.abs(), 9);
-            std::iter::once(0.0).chain(mags.iter().map(|m| -m)).chain(mags.iter().copied()).collect()
+            mags.iter().map(|m| -m).chain(mags.iter().copied()).collect()
         }
         EffectKind::Slip => spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect(),
-        _ => std::iter::once(0.0).chain(spaced(0.5 * lo, 2.0 * hi, 9)).collect(),
+        _ => spaced(0.5 * lo, 2.0 * hi, 9),
     }
 }
 
@@ -60,11 +58,11 @@ pub fn mu_limit(sh: &Shooting) -> f64 {
     painleve_mu_limit(&sh.spec.base)
 }
 
-/// Fits `kind` from the baseline's stage `join` on down to one segment (see the module doc);
-/// from the baseline's own whole-run solution `baseline` instead where the data at `join`
-/// prefer no effect at all, or where the candidate, re-anchored at every stretch of `join`,
-/// still fits worse than the baseline does over the whole run (then it cannot win: one
-/// prediction over the whole run fits no better than several). `on_iteration(segments, cost)`.
+/// Fits `kind` from the baseline's first stage `join` (its multiple-shooting segments) on
+/// down to one segment (see the module doc); from the baseline's own whole-run solution
+/// `baseline` instead where the candidate, re-anchored at every segment of `join`, still fits
+/// worse than the baseline does over the whole run (then it cannot win: one prediction over
+/// the whole run fits no better than many). `on_iteration(segments, cost)`.
 pub fn fit_candidate(
     ms: &Shooting,
     join: &Level,
@@ -75,32 +73,26 @@ pub fn fit_candidate(
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
     let mu_max = mu_limit(ms);
-    let from_baseline = |clock: std::time::Instant| {
-        let mut w = refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?;
-        w.seconds = clock.elapsed().as_secs_f64();
-        Ok(w)
-    };
     let mut sh = with_effect(ms, kind);
     sh.segments = join.segments.clone();
     let trials = trial_strengths(kind, mu_max);
     let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain([s]).collect()).collect();
     let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
     let best = (0..trials.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
-    if Some(trials[best]) == kind.baseline_strength() {
-        return from_baseline(clock);
-    }
     let segments = sh.segments.len();
     let opts = LmOptions { max_iterations: LEVEL_ITERATIONS, rel_tol: 1e-4, ..LmOptions::default() };
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
     let first = lm::solve(&sh, globals[best].clone(), locals, &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
-    if segments > 1 && first.cost > baseline.cost {
-        return from_baseline(clock);
-    }
-    if segments > 1 {
-        sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
-    }
-    let states: Vec<StateVec> = first.local.iter().step_by(if segments > 1 { 2 } else { 1 }).map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
-    let mut fit = fit_whole(&sh, first.global, &states, on_iteration, cancel)?;
+    let mut fit = if segments > 1 && first.cost > baseline.cost {
+        refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?
+    } else {
+        if segments > 1 {
+            sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        }
+        let step = if segments > 1 { 2 } else { 1 };
+        let states: Vec<StateVec> = first.local.iter().step_by(step).map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+        fit_whole(&sh, first.global, &states, on_iteration, cancel)?
+    };
     fit.seconds = clock.elapsed().as_secs_f64();
     Ok(fit)
 }
@@ -110,7 +102,8 @@ pub fn fit_candidate(
 pub fn refit_from(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
     let mut sh = with_effect(ms, kind);
     sh.segments = vec![from.span.clone()];
-    let mut g = from.internal[..3].to_vec();
+    let own = from.internal.len() - usize::from(from.kind != EffectKind::None);
+    let mut g = from.internal[..own].to_vec();
     if kind != EffectKind::None {
         g.push(strength);
     }
@@ -141,7 +134,7 @@ pub fn fit_candidates(
     done: &(dyn Fn(EffectKind) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
-    let join = levels.iter().find(|l| l.segments.len() <= JOIN_SEGMENTS).or(levels.last()).ok_or(LmError::BadStart)?;
+    let join = levels.first().ok_or(LmError::BadStart)?;
     // The slowest first (sliding runs cost most), so that it does not finish alone.
     let mut order: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
     order.sort_by_key(|&k| k != EffectKind::Slip);
@@ -184,3 +177,4 @@ pub fn fit_candidates(
     });
     Ok((baseline, candidates))
 }
+

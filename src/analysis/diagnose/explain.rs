@@ -143,11 +143,19 @@ pub fn explain(d: &Diagnosis) -> String {
         None => "The baseline follows the recording within its noise over the whole run.".to_string(),
     };
     if d.left_out == EffectKind::None {
-        let _ = write!(
-            out,
-            "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {where_}",
-            d.before.rms_px
-        );
+        if d.mismatch.is_none() {
+            let _ = write!(
+                out,
+                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {where_}",
+                d.before.rms_px
+            );
+        } else {
+            let _ = write!(
+                out,
+                "None of the candidates explains this recording better than the paper's model, which misses it by {:.3} px rms over the whole run against a noise of {noise}. {where_} What is missing is none of the effects tried (the start state and the body's radius and width were fitted with every model); look at the trace and the residual for its signature.",
+                d.before.rms_px
+            );
+        }
         if let Some(c) = runner_up {
             let _ = write!(
                 out,

@@ -83,16 +83,18 @@ pub fn diagnose(
             });
         }
     };
-    let (path, departure) = rayon::join(
-        || fit_baseline(&ms, &base.segment_states, &mut on_baseline, cancel),
-        || departure::find(&ms, &base.segment_states, noise_px, width, cancel),
-    );
-    let (baseline, levels) = path.map_err(lm_error)?;
-    let departure = departure.map_err(lm_error)?;
-    stage_seconds.push(("baseline over the whole run, departure", lap.elapsed().as_secs_f64()));
+    let (baseline, levels) = fit_baseline(&ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)?;
+    stage_seconds.push(("baseline over the whole run", lap.elapsed().as_secs_f64()));
     let lap = Instant::now();
-    let (baseline, fits) = candidates_stage(&ms, baseline, &levels, opts, progress, cancel)?;
-    stage_seconds.push(("candidates", lap.elapsed().as_secs_f64()));
+    // Where it departs, if it does not follow the whole run (beside the candidates).
+    let follows_whole = departure::follows(&ms, &baseline, baseline.span.clone(), noise_px, width);
+    let (departure, candidates) = rayon::join(
+        || if follows_whole { Ok(Departure::none(&baseline)) } else { departure::find(&ms, &base.segment_states, noise_px, width, cancel) },
+        || candidates_stage(&ms, baseline.clone(), &levels, opts, progress, cancel),
+    );
+    let departure = departure.map_err(lm_error)?;
+    let (baseline, fits) = candidates?;
+    stage_seconds.push(("candidates and departure", lap.elapsed().as_secs_f64()));
     let lap = Instant::now();
     progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
 
