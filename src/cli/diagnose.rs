@@ -95,6 +95,10 @@ impl DiagnoseJson {
                 params.insert(format!("C{}", i + 1), finite(f.c[i]));
                 params.insert(format!("C{}_sigma", i + 1), finite(f.c_sigma[i]));
             }
+            for (i, name) in ["R_mm", "h_mm"].iter().enumerate() {
+                params.insert(name.to_string(), finite(f.body_mm[i].0));
+                params.insert(format!("{name}_sigma"), finite(f.body_mm[i].1));
+            }
             if let Some((v, s)) = f.strength {
                 params.insert(f.effect.name().to_string(), finite(v));
                 params.insert(format!("{}_sigma", f.effect.name()), finite(s));

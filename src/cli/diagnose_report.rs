@@ -172,6 +172,7 @@ pub fn write(dir: &Path, file: &Path, rec: &Recording, d: &Diagnosis) -> Result<
 fn params(f: &ModelFit) -> String {
     let pm = |v: f64, s: f64| if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { sig(v) };
     let mut s = format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]));
+    let _ = write!(s, "; R = {} mm, h = {} mm", pm(f.body_mm[0].0, f.body_mm[0].1), pm(f.body_mm[1].0, f.body_mm[1].1));
     if let Some((v, sd)) = f.strength {
         let _ = write!(s, "; {} ({}) = {}", f.effect, f.effect.parameter(), pm(v, sd));
     }

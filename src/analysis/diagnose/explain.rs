@@ -120,6 +120,20 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     }
 }
 
+/// The body's dimensions where they fit away from the header's (beyond 3 sigma and 0.5%).
+fn body_words(d: &Diagnosis) -> String {
+    let f = &d.after;
+    let mut out = String::new();
+    for (i, name) in ["outer radius", "width"].iter().enumerate() {
+        let (v, s) = f.body_mm[i];
+        let header = d.header_body_mm[i];
+        if (v - header).abs() > (3.0 * s).max(0.005 * header) {
+            let _ = write!(out, " The body's {name} fits as {v:.3} +- {s:.3} mm where the header says {header} mm: the header's value is off, or the marks do not sit where it implies.");
+        }
+    }
+    out
+}
+
 fn fitted(f: &ModelFit) -> String {
     format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]))
 }
@@ -163,7 +177,7 @@ pub fn explain(d: &Diagnosis) -> String {
                 c.effect, c.rms_px, c.delta_score, d.evidence
             );
         }
-        let _ = write!(out, " Fitted: {}.", fitted(&d.before));
+        let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
         return out;
     }
     let kind = d.left_out;
@@ -191,6 +205,6 @@ pub fn explain(d: &Diagnosis) -> String {
     if ratio < 2.0 {
         let _ = write!(out, " The improvement is modest: the effect is near what {:.2} px of noise lets a recording show.", d.noise_px);
     }
-    let _ = write!(out, " Fitted with it: {}.", fitted(&d.after));
+    let _ = write!(out, " Fitted with it: {}.{}", fitted(&d.after), body_words(d));
     out
 }

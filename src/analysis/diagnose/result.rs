@@ -22,6 +22,8 @@ pub struct ModelFit {
     pub c_sigma: [f64; 3],
     /// The effect's strength and its one-sigma uncertainty (infinite where unconstrained).
     pub strength: Option<(f64, f64)>,
+    /// The body's outer radius and width as fitted (mm), with their sigmas.
+    pub body_mm: [(f64, f64); 2],
     /// The start state at the first fitted frame and its time (s).
     pub start: Initial,
     pub start_s: f64,
@@ -138,6 +140,8 @@ pub struct Diagnosis {
     pub candidates: Vec<Candidate>,
     /// The BIC drop an effect needed to be named.
     pub evidence: f64,
+    /// The body's outer radius and width as the recording's header gives them (mm).
+    pub header_body_mm: [f64; 2],
     pub residuals: ResidualSeries,
     pub trace: Trace,
     pub signature: Signature,

@@ -10,7 +10,7 @@ use super::signature::{measure, run_end};
 use super::whole::WholeFit;
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
-use crate::analysis::fit::{FitProgress, FitResult, fit};
+use crate::analysis::fit::{FitError, FitProgress, FitResult, fit};
 use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
 use crate::recording::{FrameMarks, Recording};
@@ -61,7 +61,8 @@ pub fn diagnose(
             })
         },
         cancel,
-    )?;
+    )
+    .map_err(|e| if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) })?;
     let mut stage_seconds = vec![("multiple-shooting fit", clock.elapsed().as_secs_f64())];
     let lap = Instant::now();
     let ms = base.shooting(&rec.frames);
@@ -206,6 +207,7 @@ pub fn diagnose(
         c: w.c,
         c_sigma: w.c_sigma,
         strength: w.strength,
+        body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
         start: Initial::from_state(&w.start),
         start_s: time_s(w.span.start as f64),
         model: w.model.clone(),
@@ -223,6 +225,7 @@ pub fn diagnose(
         after: model_fit(chosen, signature.end_after_s),
         candidates: ranked.into_iter().map(|(c, _)| c).collect(),
         evidence: opts.evidence,
+        header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
         residuals,
         trace,
         signature,

@@ -169,7 +169,7 @@ impl FitResult {
             observed,
             segments: self.segments.clone(),
             dt: self.dt,
-            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start },
+            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start, strength_range: None },
             run: self.run.clone(),
             geometry: self.geometry,
             length_mm: self.units.length_mm,
@@ -236,7 +236,7 @@ pub fn fit(
         free.push(Free::Effect(kind));
     }
     let re_start = Sample::new(&base, 0.0, &y0).reynolds;
-    let spec = ModelSpec { base, camera, free, re_start };
+    let spec = ModelSpec { base, camera, free, re_start, strength_range: None };
     let mut shooting = Shooting {
         observed: &rec.frames,
         segments: split(f0, moving_end, opts.segment_frames),

@@ -41,6 +41,8 @@ pub struct ModelSpec {
     pub free: Vec<Free>,
     /// Reynolds number at the start (the reference of `reynolds_drag`).
     pub re_start: f64,
+    /// Where an effect's strength may go (None: wherever the effect allows).
+    pub strength_range: Option<(f64, f64)>,
 }
 
 impl ModelSpec {
@@ -122,12 +124,15 @@ impl ModelSpec {
             match f {
                 Free::Drag(i) => model.c_drag[*i] = v,
                 Free::Effect(EffectKind::CameraDistortion) => {
-                    if v.abs() > 0.5 {
+                    if v.abs() > 0.5 || self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
                         return None;
                     }
                     camera.k1 = v;
                 }
                 Free::Effect(kind) => {
+                    if self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                        return None;
+                    }
                     effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects).ok()?;
                 }
                 Free::Body(_) => {}
