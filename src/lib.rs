@@ -2,13 +2,14 @@
 //! "Terminal retrograde turn of rolling rings".
 //!
 //! Layout: `physics` is the model and its integrator (pure math); `analysis` sweeps, fits and
-//! diagnoses; `config` reads case files; `report` turns runs into JSON and CSV; `sim` runs the
-//! model on a thread for the live view; `render` draws the scene (wgpu); `ui` is the window
-//! (egui). physics never uses sim, render or ui.
+//! diagnoses; `config` reads case files; `report` turns runs into JSON and CSV; `plot` draws
+//! the report figures; `sim` runs the model on a thread for the live view; `render` draws the
+//! scene (wgpu); `ui` is the window (egui). physics never uses sim, render or ui.
 
 pub mod analysis;
 pub mod config;
 pub mod physics;
+pub mod plot;
 pub mod recording;
 pub mod render;
 pub mod report;

@@ -24,6 +24,10 @@ enum Command {
     Recover(cli::recover::RecoverArgs),
     /// Fit the model (drag C1..C3 and the start state) to a recording
     Fit(cli::fit::FitArgs),
+    /// Name the physics the model left out of a recording (or none), show the fit improve
+    Diagnose(cli::diagnose::DiagnoseArgs),
+    /// The diagnosis on recordings with a concealed effect: hit rates, misfits, false alarms
+    DiagnoseBench(cli::diagnose_bench::DiagnoseBenchArgs),
     /// Measure the speed of the physics core
     Bench(cli::bench::BenchArgs),
     /// Measure the speed of the visualizer (offscreen, the integrator thread, the window)
@@ -44,6 +48,8 @@ fn main() -> Result<()> {
         Some(Command::Synth(a)) => cli::synth::run(&a),
         Some(Command::Recover(a)) => cli::recover::run(&a),
         Some(Command::Fit(a)) => cli::fit::run(&a),
+        Some(Command::Diagnose(a)) => cli::diagnose::run(&a),
+        Some(Command::DiagnoseBench(a)) => cli::diagnose_bench::run(&a),
         Some(Command::Bench(a)) => cli::bench::run(&a),
         Some(Command::Effects) => {
             use ringlab::physics::EffectKind;

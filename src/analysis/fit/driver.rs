@@ -12,7 +12,7 @@ use crate::physics::run::RunError;
 use crate::physics::{Initial, Model, ParamError, RunOptions, RunSummary, Sample, Simulation, StateVec, TurnKind, Units};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::recover::{RecoverError, RecoveredMotion, recover_with};
-use crate::recording::{Camera, Recording};
+use crate::recording::{Camera, FrameMarks, Recording};
 use nalgebra::Vector3;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -151,10 +151,31 @@ pub struct FitResult {
     pub units: Units,
     /// Model time per frame.
     pub dt: f64,
+    /// The marks' circle in model units.
+    pub geometry: MarkGeometry,
+    /// Reynolds number at the start (the reference of `reynolds_drag`).
+    pub re_start: f64,
+    /// The integration settings of the fit's runs.
+    pub run: RunOptions,
     pub compute_seconds: f64,
 }
 
 impl FitResult {
+    /// The fit's multiple-shooting problem at its final segments, with the drag free (the
+    /// fitted model as the base): for refits that start where this fit ended (the diagnosis).
+    pub fn shooting<'a>(&self, observed: &'a [FrameMarks]) -> Shooting<'a> {
+        let free = (0..3).map(Free::Drag).collect();
+        Shooting {
+            observed,
+            segments: self.segments.clone(),
+            dt: self.dt,
+            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start, strength_range: None },
+            run: self.run.clone(),
+            geometry: self.geometry,
+            length_mm: self.units.length_mm,
+        }
+    }
+
     /// The fitted model run from the fitted start to its end, sampled at the recording's
     /// frames (`t = start_t + k dt`): the model's path to show beside the recording's (same
     /// table coordinates, model units; the recording's are in mm).
@@ -215,7 +236,7 @@ pub fn fit(
         free.push(Free::Effect(kind));
     }
     let re_start = Sample::new(&base, 0.0, &y0).reynolds;
-    let spec = ModelSpec { base, camera, free, re_start };
+    let spec = ModelSpec { base, camera, free, re_start, strength_range: None };
     let mut shooting = Shooting {
         observed: &rec.frames,
         segments: split(f0, moving_end, opts.segment_frames),
@@ -345,6 +366,9 @@ pub fn fit(
         camera,
         units,
         dt,
+        geometry: shooting.geometry,
+        re_start: shooting.spec.re_start,
+        run: shooting.run.clone(),
         compute_seconds: clock.elapsed().as_secs_f64(),
     })
 }

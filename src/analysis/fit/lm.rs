@@ -23,6 +23,16 @@ pub trait BlockProblem: Sync {
     fn global_step(&self, i: usize, value: f64) -> f64;
     /// Forward-difference step for local parameter `i` at `value`.
     fn local_step(&self, i: usize, value: f64) -> f64;
+    /// Local parameters whose Jacobian columns [`BlockProblem::symmetry_columns`] gives
+    /// without re-evaluating the block (a symmetry of the problem). Default: none.
+    fn symmetric_locals(&self) -> &[usize] {
+        &[]
+    }
+    /// The forward-difference columns (steps from [`BlockProblem::local_step`]) of block `s`
+    /// for [`BlockProblem::symmetric_locals`], in that order; None where they cannot be had.
+    fn symmetry_columns(&self, _s: usize, _global: &[f64], _local: &[f64]) -> Option<Vec<Vec<f64>>> {
+        None
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,11 +92,21 @@ fn evaluate(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>]) -> Option<(f64, Vec
 
 fn linearize(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>], base: Vec<Vec<f64>>, cost: f64) -> Option<Linearized> {
     let (ng, nb) = (p.global_count(), p.block_size());
-    // One job per (block, column).
-    let jobs: Vec<(usize, usize)> = (0..p.block_count()).flat_map(|s| (0..ng + nb).map(move |c| (s, c))).collect();
-    let cols: Option<Vec<Vec<f64>>> = jobs
+    let sym = p.symmetric_locals();
+    // One job per (block, column), and one per block for the columns a symmetry gives (None).
+    let jobs: Vec<(usize, Option<usize>)> = (0..p.block_count())
+        .flat_map(|s| {
+            let plain = (0..ng + nb).filter(move |&c| c < ng || !sym.contains(&(c - ng))).map(move |c| (s, Some(c)));
+            plain.chain((!sym.is_empty()).then_some((s, None)))
+        })
+        .collect();
+    let results: Option<Vec<Vec<(usize, Vec<f64>)>>> = jobs
         .par_iter()
         .map(|&(s, c)| {
+            let Some(c) = c else {
+                let cols = p.symmetry_columns(s, g, &b[s])?;
+                return Some(sym.iter().map(|&i| ng + i).zip(cols).collect());
+            };
             let (mut gg, mut bb) = (g.to_vec(), b[s].clone());
             let h = if c < ng {
                 let h = p.global_step(c, gg[c]);
@@ -98,16 +118,21 @@ fn linearize(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>], base: Vec<Vec<f64>
                 h
             };
             let r = p.residuals(s, &gg, &bb)?;
-            Some(r.iter().zip(&base[s]).map(|(a, r0)| (a - r0) / h).collect())
+            Some(vec![(c, r.iter().zip(&base[s]).map(|(a, r0)| (a - r0) / h).collect())])
         })
         .collect();
-    let cols = cols?;
+    let mut cols: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); ng + nb]; p.block_count()];
+    for (&(s, _), found) in jobs.iter().zip(results?) {
+        for (c, col) in found {
+            cols[s][c] = col;
+        }
+    }
     let blocks = base
         .into_iter()
         .enumerate()
         .map(|(s, r)| {
             let m = r.len();
-            let col = |c: usize| &cols[s * (ng + nb) + c];
+            let col = |c: usize| &cols[s][c];
             BlockJacobian {
                 jg: DMatrix::from_fn(m, ng, |i, c| col(c)[i]),
                 jb: DMatrix::from_fn(m, nb, |i, c| col(ng + c)[i]),

@@ -1,9 +1,10 @@
 //! The fit's free global parameters and the model and camera they make.
 //!
 //! The drag coefficients are fitted as `ln C_i` (they are positive and span decades; a step
-//! in `ln C` is a relative change). An effect's strength (`physics::effects`) is fitted as
-//! it is, so that it can start at, and come out as, zero; `camera_distortion` sets the
-//! camera's `k1`, every other effect the physics.
+//! in `ln C` is a relative change), and so are the body's dimensions where they are free (the
+//! diagnosis: a header's caliper readings are measurements too). An effect's strength
+//! (`physics::effects`) is fitted as it is, so that it can start at, and come out as, zero;
+//! `camera_distortion` sets the camera's `k1`, every other effect the physics.
 
 use crate::physics::effects::{self, EffectKind};
 use crate::physics::Model;
@@ -16,6 +17,8 @@ pub enum Free {
     Drag(usize),
     /// The strength of an effect.
     Effect(EffectKind),
+    /// A dimension of the body (model units): 0 the outer radius `R`, 1 the width `h`.
+    Body(usize),
 }
 
 impl Free {
@@ -23,6 +26,8 @@ impl Free {
         match self {
             Free::Drag(i) => format!("C{}", i + 1),
             Free::Effect(k) => format!("{k} strength"),
+            Free::Body(0) => "R".into(),
+            Free::Body(_) => "h".into(),
         }
     }
 }
@@ -36,6 +41,8 @@ pub struct ModelSpec {
     pub free: Vec<Free>,
     /// Reynolds number at the start (the reference of `reynolds_drag`).
     pub re_start: f64,
+    /// Where an effect's strength may go (None: wherever the effect allows).
+    pub strength_range: Option<(f64, f64)>,
 }
 
 impl ModelSpec {
@@ -45,7 +52,7 @@ impl ModelSpec {
             .iter()
             .zip(values)
             .map(|(f, v)| match f {
-                Free::Drag(_) => v.max(1e-12).ln(),
+                Free::Drag(_) | Free::Body(_) => v.max(1e-12).ln(),
                 Free::Effect(_) => *v,
             })
             .collect()
@@ -57,7 +64,7 @@ impl ModelSpec {
             .iter()
             .zip(internal)
             .map(|(f, x)| match f {
-                Free::Drag(_) => x.exp(),
+                Free::Drag(_) | Free::Body(_) => x.exp(),
                 Free::Effect(_) => *x,
             })
             .collect()
@@ -69,7 +76,7 @@ impl ModelSpec {
             .iter()
             .zip(internal)
             .map(|(f, x)| match f {
-                Free::Drag(_) => x.exp(),
+                Free::Drag(_) | Free::Body(_) => x.exp(),
                 Free::Effect(_) => 1.0,
             })
             .collect()
@@ -83,6 +90,8 @@ impl ModelSpec {
                 Free::Drag(i) => self.base.c_drag[*i],
                 Free::Effect(EffectKind::CameraDistortion) => self.camera.k1,
                 Free::Effect(_) => 0.0,
+                Free::Body(0) => self.base.body.r,
+                Free::Body(_) => self.base.body.h,
             })
             .collect()
     }
@@ -91,30 +100,56 @@ impl ModelSpec {
     pub fn build(&self, internal: &[f64]) -> Option<(Model, Camera)> {
         let mut model = self.base.clone();
         let mut camera = self.camera;
-        for (f, v) in self.free.iter().zip(self.to_values(internal)) {
-            if !v.is_finite() {
-                return None;
+        let values = self.to_values(internal);
+        if values.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        // The body first: an effect's strength may be relative to its size.
+        let (mut r, mut h) = (model.body.r, model.body.h);
+        let mut resized = false;
+        for (f, &v) in self.free.iter().zip(&values) {
+            match f {
+                Free::Body(0) => (r, resized) = (v, true),
+                Free::Body(_) => (h, resized) = (v, true),
+                _ => {}
             }
+        }
+        if resized {
+            let b = &model.body;
+            // A ring keeps its wall; a disk is solid (w = R).
+            let w = if b.shape == crate::physics::Shape::Disk { r } else { b.w };
+            model.body = crate::physics::Body::new(b.shape, r, h, w).ok()?;
+        }
+        for (f, &v) in self.free.iter().zip(&values) {
             match f {
                 Free::Drag(i) => model.c_drag[*i] = v,
                 Free::Effect(EffectKind::CameraDistortion) => {
-                    if v.abs() > 0.5 {
+                    if v.abs() > 0.5 || self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
                         return None;
                     }
                     camera.k1 = v;
                 }
                 Free::Effect(kind) => {
+                    if self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                        return None;
+                    }
                     effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects).ok()?;
                 }
+                Free::Body(_) => {}
             }
         }
         Some((model, camera))
     }
 
+    /// Whether the body's dimensions are free (the marks' circle then follows the body).
+    pub fn body_free(&self) -> bool {
+        self.free.iter().any(|f| matches!(f, Free::Body(_)))
+    }
+
     /// Forward-difference step in internal coordinates.
     pub fn step(&self, i: usize, x: f64) -> f64 {
         match self.free[i] {
-            Free::Drag(_) => 1e-6,
+            Free::Drag(_) | Free::Body(_) => 1e-6,
             Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
         }
     }

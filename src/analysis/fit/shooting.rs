@@ -8,9 +8,9 @@
 
 use super::params::ModelSpec;
 use super::lm::BlockProblem;
-use crate::physics::model::STATE_LEN;
+use crate::physics::model::{STATE_LEN, ix};
 use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
-use crate::recording::marks::MarkGeometry;
+use crate::recording::marks::{MarkGeometry, mark_radius};
 use crate::recording::{Camera, FrameMarks, MARKS};
 use std::ops::Range;
 
@@ -34,19 +34,37 @@ pub struct Shooting<'a> {
     pub length_mm: f64,
 }
 
+/// Integration steps per frame beyond which a prediction is abandoned (see [`predict_samples`]).
+pub const STEPS_PER_FRAME: u64 = 100;
+
 /// The model's samples at the frames `range` from state `y0` at the first of them: one per
 /// frame, the final pose repeated after the run's end. None when the run cannot start.
 pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> Option<Vec<Sample>> {
     let t0 = range.start as f64 * dt;
     let n = range.len();
     let opts = RunOptions { t_end: t0 + n as f64 * dt, sample_dt: Some(dt), track_validity: false, ..run.clone() };
-    let sim = Simulation::from_state(model.clone(), t0, *y0, opts).ok()?;
+    let t_end = opts.t_end;
+    let mut sim = Simulation::from_state(model.clone(), t0, *y0, opts).ok()?;
     let mut grid = Vec::with_capacity(n);
-    let summary = sim.run(&mut |s| {
+    let mut sink = |s: &Sample| {
         if grid.len() < n {
             grid.push(*s);
         }
-    });
+    };
+    // A least-squares trial step can ask for parameters where the run crawls (spin so fast or
+    // drag so strong that the steps shrink): past the budget it counts as outside the model's
+    // domain. Rolling runs of the recordings take about 2 steps a frame at 300 fps, sliding ones
+    // about 15, up to 40 over the slow, slippery end of a run.
+    let budget = STEPS_PER_FRAME * n as u64 + 5_000;
+    let mut t = t0;
+    while sim.end_reason().is_none() && t < t_end {
+        t = (t + 16.0 * dt).min(t_end);
+        sim.advance(t, &mut sink);
+        if sim.stats().steps > budget {
+            return None;
+        }
+    }
+    let summary = sim.finish();
     // After a natural end, frames at or after floor(t_end / dt) show the end state; after a
     // failure, every frame past the last good sample does.
     let moving = if summary.end_reason.is_natural() {
@@ -60,17 +78,28 @@ pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, 
 }
 
 impl Shooting<'_> {
+    /// The marks' circle for `model`: the recording's, or the model body's where the body's
+    /// dimensions are free.
+    pub fn geometry_of(&self, model: &Model) -> MarkGeometry {
+        if self.spec.body_free() {
+            MarkGeometry { radius: mark_radius(&model.body), order: self.geometry.order }
+        } else {
+            self.geometry
+        }
+    }
+
     /// The marks' pixel positions for a sample.
     #[inline]
-    pub fn project(&self, camera: &Camera, s: &Sample) -> [[f64; 2]; MARKS] {
-        let m = self.geometry.marks([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
+    pub fn project(&self, geometry: &MarkGeometry, camera: &Camera, s: &Sample) -> [[f64; 2]; MARKS] {
+        let m = geometry.marks([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
         m.map(|p| camera.to_px(p[0] * self.length_mm, p[1] * self.length_mm))
     }
 
     /// Predicted marks of segment `s` from its start state.
     pub fn predict(&self, model: &Model, camera: &Camera, s: usize, y0: &StateVec) -> Option<PredictedMarks> {
         let samples = predict_samples(model, &self.run, self.dt, y0, self.segments[s].clone())?;
-        Some(samples.iter().map(|x| self.project(camera, x)).collect())
+        let geometry = self.geometry_of(model);
+        Some(samples.iter().map(|x| self.project(&geometry, camera, x)).collect())
     }
 
     /// Model minus observed for every tracked mark of segment `s` (x, then y).
@@ -123,6 +152,57 @@ impl BlockProblem for Shooting<'_> {
     }
     fn local_step(&self, _: usize, value: f64) -> f64 {
         1e-6 * value.abs().max(1.0)
+    }
+    fn symmetric_locals(&self) -> &[usize] {
+        &SYMMETRIC
+    }
+    fn symmetry_columns(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
+        self.symmetry_columns_of(s, global, local)
+    }
+}
+
+/// The start-state components whose effect on a prediction follows without integrating: the
+/// table has no preferred place or heading (moving `x_C, y_C` translates the whole path,
+/// turning `phi` turns it about the start's centre of mass) and the body is symmetric about
+/// its axis (`psi` only turns the marks). Every force of the model and its effects respects
+/// this, sliding included.
+const SYMMETRIC: [usize; 4] = [ix::PHI, ix::PSI, ix::X, ix::Y];
+
+impl Shooting<'_> {
+    /// Forward-difference columns for [`SYMMETRIC`] from one run: the samples moved, turned
+    /// or spun, and projected again.
+    fn symmetry_columns_of(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let (model, camera) = self.spec.build(global)?;
+        let y0: StateVec = local.try_into().ok()?;
+        if y0.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let samples = predict_samples(&model, &self.run, self.dt, &y0, self.segments[s].clone())?;
+        let geometry = self.geometry_of(&model);
+        let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks { samples.iter().map(|x| self.project(&geometry, &camera, &f(x))).collect() };
+        let base = self.residuals_of(s, &project(&|x| *x));
+        let (cx, cy) = (y0[ix::X], y0[ix::Y]);
+        let cols = SYMMETRIC.map(|i| {
+            let h = self.local_step(i, y0[i]);
+            let moved = project(&|x: &Sample| {
+                let mut m = *x;
+                match i {
+                    ix::X => m.x_a += h,
+                    ix::Y => m.y_a += h,
+                    ix::PSI => m.y[ix::PSI] += h,
+                    _ => {
+                        let (sn, cs) = h.sin_cos();
+                        let (dx, dy) = (x.x_a - cx, x.y_a - cy);
+                        m.x_a = cx + cs * dx - sn * dy;
+                        m.y_a = cy + sn * dx + cs * dy;
+                        m.y[ix::PHI] += h;
+                    }
+                }
+                m
+            });
+            self.residuals_of(s, &moved).iter().zip(&base).map(|(a, b)| (a - b) / h).collect()
+        });
+        Some(cols.to_vec())
     }
 }
 

@@ -1,0 +1,180 @@
+//! The candidates: each effect refitted over the whole run with its strength free, next to
+//! the baseline, all on the same misfit ([`super::whole`]).
+//!
+//! Paths: the baseline walks from its multiple-shooting segments down to one; each candidate
+//! starts where the baseline does, with its strength chosen there from values spanning its
+//! realistic range by the cost at the baseline's states (one run of the recording each), and
+//! walks the same way down to one segment. (Joining the baseline's path further down, at a
+//! few long segments, is cheaper but fails: there the baseline's drag has absorbed so much of
+//! an effect that the scan sees no effect as best, and from the baseline's valley the least
+//! squares do not find the effect's.) Two safeguards keep the comparison fair where a least-squares path ends in a
+//! side valley: the baseline is refitted from the best candidate's drag and start, so that
+//! "before" is the baseline at its best and not one that stopped early; and a candidate nests
+//! the baseline (at zero strength it IS the baseline), so one that ends worse than the
+//! baseline is refitted from the baseline's solution.
+
+use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, segment_cost, with_effect};
+use crate::analysis::fit::lm::{self, LmError, LmOptions};
+use crate::analysis::fit::shooting::Shooting;
+use crate::physics::effects::EffectKind;
+use crate::physics::StateVec;
+use crate::physics::slip::painleve_mu_limit;
+use rayon::prelude::*;
+use std::sync::atomic::AtomicBool;
+
+/// Strengths tried first for `kind`: nine log-spaced values from half the realistic range's
+/// low end to twice its high end (both signs for the lens: its realistic range is barrel
+/// only, the data decide the sign); slip: from half the low end to just below the Painleve
+/// limit `mu_max`. Not zero: the baseline's drag and states absorb what they can of an
+/// effect, so at them no effect always looks best.
+pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
+    let (lo, hi) = kind.realistic_range();
+    let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> { (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect() };
+    match kind {
+        EffectKind::None => vec![0.0],
+        EffectKind::CameraDistortion => {
+            let mags = spaced(0.5 * hi.abs(), 2.0 * lo.abs(), 9);
+            mags.iter().map(|m| -m).chain(mags.iter().copied()).collect()
+        }
+        EffectKind::Slip => spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect(),
+        _ => spaced(0.5 * lo, 2.0 * hi, 9),
+    }
+}
+
+/// The strength at which a candidate starts from the baseline's own solution: the baseline
+/// itself (zero; slip: the largest `mu` allowed, closest to pure rolling). Not a small
+/// strength: over a whole run the misfit is so sensitive that even a tenth of a realistic
+/// strength lands far up the valley's side (Reynolds drag: n = 0.025 raises a noise-level
+/// misfit 7000-fold, and the least squares then crawl back).
+pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
+    match kind.baseline_strength() {
+        Some(s) => s,
+        None => 0.98 * mu_max,
+    }
+}
+
+/// The largest `mu` the sliding contact allows for this body (`slip.rs`).
+pub fn mu_limit(sh: &Shooting) -> f64 {
+    painleve_mu_limit(&sh.spec.base)
+}
+
+/// Fits `kind` from the baseline's first stage `join` (its multiple-shooting segments) on
+/// down to one segment (see the module doc); from the baseline's own whole-run solution
+/// `baseline` instead where the candidate, re-anchored at every segment of `join`, still fits
+/// worse than the baseline does over the whole run (then it cannot win: one prediction over
+/// the whole run fits no better than many). `on_iteration(segments, cost)`.
+pub fn fit_candidate(
+    ms: &Shooting,
+    join: &Level,
+    baseline: &WholeFit,
+    kind: EffectKind,
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
+    let clock = std::time::Instant::now();
+    let mu_max = mu_limit(ms);
+    let mut sh = with_effect(ms, kind);
+    sh.segments = join.segments.clone();
+    let trials = trial_strengths(kind, mu_max);
+    let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain([s]).collect()).collect();
+    let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
+    let best = (0..trials.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
+    let segments = sh.segments.len();
+    let opts = LmOptions { max_iterations: LEVEL_ITERATIONS, rel_tol: 1e-4, ..LmOptions::default() };
+    let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
+    let first = lm::solve(&sh, globals[best].clone(), locals, &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
+    let mut fit = if segments > 1 && first.cost > baseline.cost {
+        refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?
+    } else {
+        if segments > 1 {
+            sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        }
+        let step = if segments > 1 { 2 } else { 1 };
+        let states: Vec<StateVec> = first.local.iter().step_by(step).map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+        fit_whole(&sh, first.global, &states, on_iteration, cancel)?
+    };
+    fit.seconds = clock.elapsed().as_secs_f64();
+    Ok(fit)
+}
+
+/// Refits `kind` over the whole run as one segment from `from`'s drag and start state (at
+/// `strength`, for a candidate): the safeguards of the module doc.
+pub fn refit_from(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
+    let mut sh = with_effect(ms, kind);
+    sh.segments = vec![from.span.clone()];
+    let own = from.internal.len() - usize::from(from.kind != EffectKind::None);
+    let mut g = from.internal[..own].to_vec();
+    if kind != EffectKind::None {
+        g.push(strength);
+    }
+    fit_whole(&sh, g, &[from.start], &mut |_, _| {}, cancel)
+}
+
+/// The baseline's path from the multiple-shooting fit (`ms`, its segment `states`).
+pub fn fit_baseline(
+    ms: &Shooting,
+    states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<Level>), LmError> {
+    let sh = with_effect(ms, EffectKind::None);
+    let g = sh.spec.to_internal(&sh.spec.initial_values());
+    fit_path(&sh, g, states, on_iteration, cancel)
+}
+
+/// The candidates along the baseline's path (`baseline`, `levels`), fitted in parallel, and the
+/// baseline with the safeguards applied. `progress(kind, segments, cost)` as each path goes
+/// on; `done(kind)` when one is fitted.
+pub fn fit_candidates(
+    ms: &Shooting,
+    baseline: WholeFit,
+    levels: &[Level],
+    kinds: &[EffectKind],
+    progress: &(dyn Fn(EffectKind, usize, f64) + Sync),
+    done: &(dyn Fn(EffectKind) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
+    let join = levels.first().ok_or(LmError::BadStart)?;
+    // The slowest first (sliding runs cost most), so that it does not finish alone.
+    let mut order: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    order.sort_by_key(|&k| k != EffectKind::Slip);
+    let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
+        .par_iter()
+        .map(|&k| {
+            let r = fit_candidate(ms, join, &baseline, k, &mut |segments, cost| progress(k, segments, cost), cancel);
+            done(k);
+            (k, r)
+        })
+        .collect();
+    if candidates.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
+        return Err(LmError::Cancelled);
+    }
+    // The baseline from the best candidate's drag and start.
+    let mut baseline = baseline;
+    let best = candidates.iter().filter_map(|(_, r)| r.as_ref().ok()).min_by(|a, b| a.cost.total_cmp(&b.cost));
+    if let Some(best) = best
+        && best.cost < baseline.cost
+    {
+        let again = refit_from(ms, EffectKind::None, best, 0.0, cancel)?;
+        if again.cost < baseline.cost {
+            baseline = again;
+        }
+    }
+    // A candidate that ended worse than the model it contains: again from the baseline.
+    let mu_max = mu_limit(ms);
+    candidates.par_iter_mut().for_each(|(k, r)| {
+        let worse = r.as_ref().map_or(true, |w| w.cost > baseline.cost);
+        let before = r.as_ref().map_or(0.0, |w| w.seconds);
+        if worse && let Ok(mut w) = refit_from(ms, *k, &baseline, near_baseline_strength(*k, mu_max), cancel) {
+            match r {
+                Ok(old) if old.cost <= w.cost => old.seconds += w.seconds,
+                _ => {
+                    w.seconds += before;
+                    *r = Ok(w);
+                }
+            }
+        }
+    });
+    Ok((baseline, candidates))
+}
+

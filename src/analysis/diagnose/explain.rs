@@ -1,0 +1,210 @@
+//! The diagnosis in plain words: what was left out, how the mismatch's signature points to
+//! it, and the fitted parameter; numbers from the diagnosis itself.
+
+use super::result::{Diagnosis, ModelFit, Signature};
+use crate::physics::effects::EffectKind;
+use std::fmt::Write;
+
+/// What each effect is, in a lab's words.
+pub fn describe(kind: EffectKind) -> &'static str {
+    match kind {
+        EffectKind::None => "nothing: the paper's model (pure rolling, quadratic air drag of eq. 5)",
+        EffectKind::ReynoldsDrag => "drag coefficients that grow as the ring slows down (C_i rising as the Reynolds number falls)",
+        EffectKind::RollingFriction => "rolling friction: a torque proportional to the normal force that resists the rolling",
+        EffectKind::PivotFriction => "pivot friction: a torque proportional to the normal force that resists spinning about the vertical",
+        EffectKind::Slip => "slipping at the contact: the ring slides where rolling would need more friction than the table gives",
+        EffectKind::TranslationalDrag => "air drag on the travel of the ring (on its centre of mass), not only on its rotation",
+        EffectKind::CameraDistortion => "the camera's radial lens distortion (a measurement effect; the physics is unchanged)",
+    }
+}
+
+fn pm(v: f64, s: f64) -> String {
+    if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { format!("{} (uncertainty unknown)", sig(v)) }
+}
+
+/// Three significant digits, plain notation where readable.
+pub fn sig(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if (-4..6).contains(&mag) {
+        format!("{:.*}", (2 - mag).max(0) as usize, v)
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+fn end_clause(s: &Signature) -> String {
+    match (s.end_data_s, s.end_before_s) {
+        (Some(d), Some(b)) => format!(
+            " The recording's motion ends at {d:.2} s, the baseline's at {b:.2} s{}.",
+            s.end_after_s.map_or(String::new(), |a| format!(", the improved model's at {a:.2} s"))
+        ),
+        (Some(d), None) => format!(" The recording's motion ends at {d:.2} s; the baseline's runs on past the recording."),
+        _ => String::new(),
+    }
+}
+
+fn thirds(s: &Signature) -> String {
+    let [a, b, c] = s.thirds_rms_px;
+    format!("{a:.2}, {b:.2} and {c:.2} px rms in the first, middle and last third")
+}
+
+/// Where the baseline parts from the recording, in words.
+fn departure_words(d: &Diagnosis) -> String {
+    let s = &d.signature;
+    match s.departure_s {
+        Some(t) => format!(
+            "Fitted to a growing stretch from the start, the baseline follows the recording within its noise up to {t:.2} s ({:.0}% of the run) and no further; fitted to the whole run it misses by {}.",
+            100.0 * s.followed_share,
+            thirds(s)
+        ),
+        None => format!("The baseline, fitted to the whole run, misses by {}.", thirds(s)),
+    }
+}
+
+/// A length given as a fraction of the outer radius, in mm.
+fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
+    let r_mm = d.after.model.body.r * d.after.units.length_mm;
+    format!("{} mm", sig(k_over_r * r_mm))
+}
+
+/// Why the signature points to the named effect.
+fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
+    let s = &d.signature;
+    let strength = d.after.strength.map_or(f64::NAN, |x| x.0);
+    let late = if s.late_share > 0.5 { format!(" {:.0}% of the whole-run misfit beyond the noise lies in the last third.", 100.0 * s.late_share) } else { String::new() };
+    match kind {
+        EffectKind::ReynoldsDrag => format!(
+            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.",
+            end_clause(s)
+        ),
+        EffectKind::RollingFriction => format!(
+            "A rolling-resistance torque k F_N takes energy at a rate that does not grow with the square of the speed as air drag does, so the fitted drag cannot match the decay of the fast start and of the slow end together.{late}{} Here the normal force acts {} ahead of the contact point.",
+            end_clause(s),
+            arm_mm(d, strength)
+        ),
+        EffectKind::PivotFriction => format!(
+            "A drilling torque k F_N against the spin about the table normal slows the precession and turns the path's heading in a way the quadratic drag on the body's axes cannot imitate.{late}{} Here k = {} (contact-patch radius times a friction coefficient).",
+            end_clause(s),
+            arm_mm(d, strength)
+        ),
+        EffectKind::Slip => {
+            let slides = if s.slides_s.is_empty() {
+                "The improved model slides only briefly.".to_string()
+            } else {
+                let list: Vec<String> = s.slides_s.iter().take(6).map(|(a, b)| format!("{a:.3}-{b:.3} s")).collect();
+                format!(
+                    "The improved model slides {} time{} ({}{}), where rolling would need more friction than mu F_N: at the launch and at the cusps of the walk.",
+                    s.slides_s.len(),
+                    if s.slides_s.len() == 1 { "" } else { "s" },
+                    list.join(", "),
+                    if s.slides_s.len() > 6 { ", ..." } else { "" }
+                )
+            };
+            format!(
+                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides} The paper names slippage at cuspy turning points as a cause of its drift."
+            )
+        }
+        EffectKind::TranslationalDrag => format!(
+            "Air drag on the centre of mass slows the travel of the ring while the rotational drag of eq. 5 acts on its spin; the two leave different marks on the path's arcs, which the drag coefficients alone cannot reproduce.{late}{}",
+            end_clause(s)
+        ),
+        EffectKind::CameraDistortion => format!(
+            "The mismatch depends on where the ring is in the image rather than on when: {:.0}% of the baseline's squared residual points along the radius from the image centre (50% would mean no preference), and {:.0}% of the correction is radial. That is a lens's radial distortion (barrel for k1 < 0), the paper's 'image distortions'; the dynamics are unchanged.",
+            100.0 * s.radial_share,
+            100.0 * s.change_radial_share
+        ),
+        EffectKind::None => String::new(),
+    }
+}
+
+/// The body's dimensions where they fit away from the header's (beyond 3 sigma and 0.5%).
+fn body_words(d: &Diagnosis) -> String {
+    let f = &d.after;
+    let mut out = String::new();
+    for (i, name) in ["outer radius", "width"].iter().enumerate() {
+        let (v, s) = f.body_mm[i];
+        let header = d.header_body_mm[i];
+        if (v - header).abs() > (3.0 * s).max(0.005 * header) {
+            let _ = write!(out, " The body's {name} fits as {v:.3} +- {s:.3} mm where the header says {header} mm: the header's value is off, or the marks do not sit where it implies.");
+        }
+    }
+    out
+}
+
+fn fitted(f: &ModelFit) -> String {
+    format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]))
+}
+
+/// The explanation of a finished diagnosis (everything but the explanation filled in).
+pub fn explain(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    let noise = format!(
+        "{:.3} px{}",
+        d.noise_px,
+        if d.noise_from_marks { " (the recording's pixel noise, estimated from the marks)" } else { " (the baseline's segment misfit; the marks gave no noise estimate)" }
+    );
+    let runner_up = d.candidates.iter().find(|c| c.effect != d.left_out && c.effect != EffectKind::None);
+    let where_ = match &d.mismatch {
+        Some(m) => format!(
+            "Mismatch: {:.2} s to {:.2} s. {}",
+            m.start_s,
+            m.end_s,
+            departure_words(d)
+        ),
+        None => "The baseline follows the recording within its noise over the whole run.".to_string(),
+    };
+    if d.left_out == EffectKind::None {
+        if d.mismatch.is_none() {
+            let _ = write!(
+                out,
+                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {where_}",
+                d.before.rms_px
+            );
+        } else {
+            let _ = write!(
+                out,
+                "None of the candidates explains this recording better than the paper's model, which misses it by {:.3} px rms over the whole run against a noise of {noise}. {where_} What is missing is none of the effects tried (the start state and the body's radius and width were fitted with every model); look at the trace and the residual for its signature.",
+                d.before.rms_px
+            );
+        }
+        if let Some(c) = runner_up {
+            let _ = write!(
+                out,
+                " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
+                c.effect, c.rms_px, c.delta_score, d.evidence
+            );
+        }
+        let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
+        return out;
+    }
+    let kind = d.left_out;
+    let ratio = d.before.rms_px / d.after.rms_px.max(1e-12);
+    let _ = write!(out, "Left out: {}. ", describe(kind));
+    let (value, sigma) = d.after.strength.unwrap_or((f64::NAN, f64::NAN));
+    let _ = write!(
+        out,
+        "With it ({} = {}) the misfit over the whole run falls from {:.3} px to {:.3} px rms ({ratio:.1}x lower; noise {noise}).",
+        kind.parameter(),
+        pm(value, sigma),
+        d.before.rms_px,
+        d.after.rms_px
+    );
+    let delta = d.after.score - d.before.score;
+    match runner_up {
+        Some(c) => {
+            let _ = write!(out, " Its BIC is {delta:.1} against the baseline; the next candidate, {}, reaches {:.3} px ({:+.1}).", c.effect, c.rms_px, c.delta_score);
+        }
+        None => {
+            let _ = write!(out, " Its BIC is {delta:.1} against the baseline.");
+        }
+    }
+    let _ = write!(out, " {where_} {}", signature_words(kind, d));
+    if ratio < 2.0 {
+        let _ = write!(out, " The improvement is modest: the effect is near what {:.2} px of noise lets a recording show.", d.noise_px);
+    }
+    let _ = write!(out, " Fitted with it: {}.{}", fitted(&d.after), body_words(d));
+    out
+}

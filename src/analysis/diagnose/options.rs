@@ -1,0 +1,78 @@
+//! What a diagnosis is asked, how it reports where it is, and how it fails.
+
+use crate::analysis::fit::{FitError, FitOptions, FitStage};
+use crate::physics::effects::EffectKind;
+use crate::physics::integrator::Tolerances;
+use thiserror::Error;
+
+/// The evidence an effect must bring to be named: its BIC below the baseline's by this much
+/// ("very strong" on Kass and Raftery's scale; about a 4.4 sigma drop in chi-square for one
+/// parameter).
+pub const DEFAULT_EVIDENCE: f64 = 10.0;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiagnoseOptions {
+    /// The baseline's multiple-shooting fit (`analysis::fit`), where every path starts.
+    pub fit: FitOptions,
+    /// The effects to try (`none` is always the baseline).
+    pub candidates: Vec<EffectKind>,
+    /// BIC drop an effect needs over the baseline to be named.
+    pub evidence: f64,
+}
+
+/// Integration tolerances of the diagnosis's runs: a tenth of the fit's accuracy for a third
+/// fewer steps (the paper's ring ends at the same time to 1e-4; a prediction moves by
+/// micro-pixels).
+pub const DIAGNOSE_TOLERANCES: Tolerances = Tolerances { rtol: 1e-9, atol: 1e-11 };
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            fit: FitOptions { tolerances: DIAGNOSE_TOLERANCES, ..FitOptions::default() },
+            candidates: EffectKind::ALL.into_iter().filter(|&k| k != EffectKind::None).collect(),
+            evidence: DEFAULT_EVIDENCE,
+        }
+    }
+}
+
+/// The stages of a diagnosis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiagnoseStage {
+    /// The baseline's multiple-shooting fit, at one of its own stages.
+    BaselineFit(FitStage),
+    /// The baseline and every candidate over the whole run.
+    Candidates,
+    /// Residuals, windows, signature, words.
+    Explain,
+}
+
+impl DiagnoseStage {
+    pub fn describe(self) -> String {
+        match self {
+            DiagnoseStage::BaselineFit(s) => format!("baseline fit: {}", s.describe()),
+            DiagnoseStage::Candidates => "candidates over the whole run".into(),
+            DiagnoseStage::Explain => "explaining".into(),
+        }
+    }
+}
+
+/// Where a diagnosis is: `fraction` of the whole in [0, 1] (for a bar), the stage, and a
+/// line to show.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiagnoseProgress {
+    pub stage: DiagnoseStage,
+    pub fraction: f64,
+    pub message: String,
+}
+
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum DiagnoseError {
+    #[error("the baseline fit failed: {0}")]
+    Fit(#[from] FitError),
+    #[error("the baseline model cannot be run over the whole recording")]
+    Baseline,
+    #[error("invalid diagnosis setting: {0}")]
+    Options(String),
+    #[error("the diagnosis was cancelled")]
+    Cancelled,
+}

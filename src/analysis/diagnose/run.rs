@@ -1,0 +1,345 @@
+//! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
+
+use super::candidates::{fit_baseline, fit_candidates};
+use super::departure::{self, Departure};
+use super::explain::explain;
+use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
+use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
+use super::result::{Candidate, Diagnosis, MismatchWindow, ModelFit, ResidualSeries, Signature, Trace};
+use super::signature::{measure, run_end};
+use super::whole::WholeFit;
+use crate::analysis::fit::lm::LmError;
+use crate::analysis::fit::shooting::Shooting;
+use crate::analysis::fit::{FitError, FitProgress, FitResult, fit};
+use crate::physics::Initial;
+use crate::physics::effects::EffectKind;
+use crate::recording::{FrameMarks, Recording};
+use std::ops::Range;
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// Shares of the progress bar: the baseline's multiple-shooting fit, then its whole-run path.
+const FIT_SHARE: f64 = 0.12;
+const BASELINE_SHARE: f64 = 0.25;
+
+/// BIC of a fit with `cost` over `n` residuals and `k` parameters.
+pub fn bic(cost: f64, n: usize, k: usize) -> f64 {
+    let n = n.max(1) as f64;
+    n * (cost / n).max(1e-300).ln() + k as f64 * n.ln()
+}
+
+fn lm_error(e: LmError) -> DiagnoseError {
+    match e {
+        LmError::Cancelled => DiagnoseError::Cancelled,
+        LmError::BadStart => DiagnoseError::Baseline,
+    }
+}
+
+/// Diagnoses a recording: which physics (or measurement effect) the paper's model left out,
+/// if any. Runs for seconds: call it off the UI thread. `progress` is called from worker
+/// threads; `cancel` stops it with [`DiagnoseError::Cancelled`].
+pub fn diagnose(
+    rec: &Recording,
+    opts: &DiagnoseOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Diagnosis, DiagnoseError> {
+    let clock = Instant::now();
+    if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
+        return Err(DiagnoseError::Options(format!("evidence {} must be a number >= 0", opts.evidence)));
+    }
+    let base = fit(
+        rec,
+        &opts.fit,
+        &|p: &FitProgress| {
+            let within = if p.total > 0 { (p.done as f64 / p.total as f64).min(1.0) } else { 0.0 };
+            progress(&DiagnoseProgress {
+                stage: DiagnoseStage::BaselineFit(p.stage),
+                fraction: FIT_SHARE * (p.stage as usize as f64 + within) / 5.0,
+                message: format!("baseline fit: {}", p.stage.describe()),
+            })
+        },
+        cancel,
+    )
+    .map_err(|e| if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) })?;
+    let mut stage_seconds = vec![("multiple-shooting fit", clock.elapsed().as_secs_f64())];
+    let lap = Instant::now();
+    let ms = base.shooting(&rec.frames);
+    let noise_from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
+    let noise_px = base.noise_px.filter(|_| noise_from_marks).unwrap_or(base.rms_px);
+    let width = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+
+    // The baseline's path and its departure side by side; then the candidates.
+    let levels_total = (base.segments.len().max(1) as f64).log2().ceil() + 1.0;
+    let baseline_progress = Mutex::new(0.0f64);
+    let mut on_baseline = |segments: usize, cost: f64| {
+        let done = (levels_total - (segments.max(1) as f64).log2().ceil() - 1.0) / levels_total;
+        if let Ok(mut d) = baseline_progress.lock() {
+            *d = d.max(done);
+            progress(&DiagnoseProgress {
+                stage: DiagnoseStage::Candidates,
+                fraction: FIT_SHARE + (BASELINE_SHARE - FIT_SHARE) * *d,
+                message: format!("baseline over the whole run: {segments} segments, {:.2} px", (cost / base.residual_count.max(1) as f64).sqrt()),
+            });
+        }
+    };
+    let (baseline, levels) = fit_baseline(&ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)?;
+    stage_seconds.push(("baseline over the whole run", lap.elapsed().as_secs_f64()));
+    let lap = Instant::now();
+    // Where it departs, if it does not follow the whole run (beside the candidates).
+    let follows_whole = departure::follows(&ms, &baseline, baseline.span.clone(), noise_px, width);
+    let (departure, candidates) = rayon::join(
+        || if follows_whole { Ok(Departure::none(&baseline)) } else { departure::find(&ms, &base.segment_states, noise_px, width, cancel) },
+        || candidates_stage(&ms, baseline.clone(), &levels, opts, progress, cancel),
+    );
+    let departure = departure.map_err(lm_error)?;
+    let (baseline, fits) = candidates?;
+    stage_seconds.push(("candidates and departure", lap.elapsed().as_secs_f64()));
+    let lap = Instant::now();
+    progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
+
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let none_score = score(&baseline);
+    let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
+        Candidate {
+            effect: EffectKind::None,
+            rms_px: baseline.rms_px(),
+            score: none_score,
+            delta_score: 0.0,
+            strength: None,
+            error: None,
+            seconds: baseline.seconds,
+        },
+        Some(&baseline),
+    )];
+    for (kind, r) in &fits {
+        ranked.push(match r {
+            Ok(w) => {
+                let c = Candidate {
+                    effect: *kind,
+                    rms_px: w.rms_px(),
+                    score: score(w),
+                    delta_score: score(w) - none_score,
+                    strength: w.strength,
+                    error: None,
+                    seconds: w.seconds,
+                };
+                (c, Some(w))
+            }
+            Err(e) => {
+                let c = Candidate {
+                    effect: *kind,
+                    rms_px: f64::NAN,
+                    score: f64::INFINITY,
+                    delta_score: f64::INFINITY,
+                    strength: None,
+                    error: Some(e.to_string()),
+                    seconds: 0.0,
+                };
+                (c, None)
+            }
+        });
+    }
+    ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
+    // The best effect, if it beats the baseline by the evidence asked for.
+    let chosen = ranked
+        .iter()
+        .find(|(c, _)| c.effect != EffectKind::None)
+        .filter(|(c, _)| c.delta_score < -opts.evidence)
+        .and_then(|(_, w)| *w)
+        .unwrap_or(&baseline);
+
+    let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_followed = departure.fit.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let span = baseline.span.clone();
+    let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
+    let to_s = |t_model: f64| time_s(t_model / base.dt);
+
+    let sums_before = frame_sums(&rec.frames, span.clone(), &pred_before);
+    let sums_after = frame_sums(&rec.frames, span.clone(), &pred_after);
+    let sums_followed = frame_sums(&rec.frames, span.clone(), &pred_followed);
+    let win_before = windows(&sums_before, noise_px, width);
+    let win_after = windows(&sums_after, noise_px, width);
+    let win_followed = windows(&sums_followed, noise_px, width);
+    let (mismatch, found) = mismatch_windows(&departure, &span, &sums_followed, &win_followed, &sums_before, noise_px, &time_s);
+
+    let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
+    let (end_before, _) = run_end(&baseline, &ms, t_stop);
+    let (end_after, slides) = run_end(chosen, &ms, t_stop);
+    let centre = baseline.camera.centre_px;
+    let mut signature = Signature::from_measured(measure(&rec.frames[span.clone()], &sums_before, &pred_before, &pred_after, centre, noise_px));
+    signature.end_data_s = (span.end < rec.frames.len()).then(|| time_s(span.end as f64));
+    signature.end_before_s = end_before.map(to_s);
+    signature.end_after_s = end_after.map(to_s);
+    signature.slides_s = slides.into_iter().map(|(a, b)| (to_s(a), to_s(b))).collect();
+    signature.departure_s = departure.departs.then(|| time_s(departure.followed.end as f64));
+    signature.followed_share = departure.followed.len() as f64 / span.len().max(1) as f64;
+
+    let t_s: Vec<f64> = span.clone().map(|i| time_s(i as f64)).collect();
+    let residuals = ResidualSeries {
+        t_s: t_s.clone(),
+        before_px: frame_rms(&sums_before),
+        after_px: frame_rms(&sums_after),
+        window_s: win_before.iter().map(|w| (time_s((span.start + w.frames.start) as f64), time_s((span.start + w.frames.end) as f64))).collect(),
+        window_before_px: win_before.iter().map(|w| w.rms_px).collect(),
+        window_after_px: win_after.iter().map(|w| w.rms_px).collect(),
+        window_threshold_px: win_before.iter().map(|w| w.threshold_px).collect(),
+        followed_px: frame_rms(&sums_followed),
+        window_followed_px: win_followed.iter().map(|w| w.rms_px).collect(),
+    };
+    let trace = Trace {
+        t_s,
+        data_px: rec.frames[span.clone()].iter().map(centroid).collect(),
+        before_px: pred_before.iter().map(predicted_centroid).collect(),
+        after_px: pred_after.iter().map(predicted_centroid).collect(),
+        image_px: image_size(&base, rec),
+    };
+    let model_fit = |w: &WholeFit, end_s: Option<f64>| ModelFit {
+        effect: w.kind,
+        rms_px: w.rms_px(),
+        cost: w.cost,
+        residual_count: w.residual_count,
+        parameter_count: w.parameter_count,
+        score: score(w),
+        c: w.c,
+        c_sigma: w.c_sigma,
+        strength: w.strength,
+        body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
+        start: Initial::from_state(&w.start),
+        start_s: time_s(w.span.start as f64),
+        model: w.model.clone(),
+        camera: w.camera,
+        units: base.units,
+        end_s,
+    };
+    let mut d = Diagnosis {
+        left_out: chosen.kind,
+        mismatch,
+        windows: found,
+        noise_px,
+        noise_from_marks,
+        before: model_fit(&baseline, signature.end_before_s),
+        after: model_fit(chosen, signature.end_after_s),
+        candidates: ranked.into_iter().map(|(c, _)| c).collect(),
+        evidence: opts.evidence,
+        header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
+        residuals,
+        trace,
+        signature,
+        explanation: String::new(),
+        segments_rms_px: base.rms_px,
+        segments: base.segments.len(),
+        frames: rec.frames.len(),
+        frames_fitted: span.len(),
+        fps: rec.header.fps,
+        stage_seconds,
+        compute_seconds: 0.0,
+    };
+    d.explanation = explain(&d);
+    d.stage_seconds.push(("residuals, signature, words", lap.elapsed().as_secs_f64()));
+    d.compute_seconds = clock.elapsed().as_secs_f64();
+    Ok(d)
+}
+
+/// The mismatch (from the departure to the last departing window of the baseline fitted up to
+/// it: `sums`, `wins`) and the departing windows after the departure, in seconds; each with
+/// the whole-run baseline's RMS inside it (`before`).
+fn mismatch_windows(
+    departure: &Departure,
+    span: &Range<usize>,
+    sums: &[(f64, usize)],
+    wins: &[super::residual::Window],
+    before: &[(f64, usize)],
+    noise_px: f64,
+    time_s: &dyn Fn(f64) -> f64,
+) -> (Option<MismatchWindow>, Vec<MismatchWindow>) {
+    if !departure.departs {
+        return (None, Vec::new());
+    }
+    let from = departure.followed.end - span.start;
+    let var = noise_px * noise_px;
+    let excess_in = |r: &Range<usize>| sums[r.clone()].iter().map(|x| x.0 - var * x.1 as f64).sum::<f64>().max(0.0);
+    let total = excess_in(&(from..sums.len()));
+    let stats = |r: &Range<usize>| {
+        let (s, c) = before[r.clone()].iter().fold((0.0, 0usize), |a, x| (a.0 + x.0, a.1 + x.1));
+        (if c > 0 { (s / c as f64).sqrt() } else { f64::NAN }, if total > 0.0 { (excess_in(r) / total).min(1.0) } else { 0.0 })
+    };
+    let window = |r: Range<usize>| {
+        let (rms_px, share) = stats(&r);
+        MismatchWindow { start_s: time_s((span.start + r.start) as f64), end_s: time_s((span.start + r.end) as f64), rms_px, share }
+    };
+    let found: Vec<Range<usize>> = departures(wins).into_iter().map(|(r, _)| r.start.max(from)..r.end).filter(|r| r.end > r.start).collect();
+    let end = found.last().map_or(sums.len(), |r| r.end).max(from + 1).min(sums.len());
+    (Some(window(from..end)), found.into_iter().map(window).collect())
+}
+
+/// The candidates along the baseline's path, with progress.
+fn candidates_stage(
+    ms: &Shooting,
+    baseline: WholeFit,
+    levels: &[super::whole::Level],
+    opts: &DiagnoseOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
+    let kinds: Vec<EffectKind> = opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    let total = kinds.len().max(1) as f64;
+    let residuals = baseline.residual_count.max(1) as f64;
+    let state = Mutex::new((vec![0.0f64; EffectKind::ALL.len()], 0usize));
+    let index = |k: EffectKind| EffectKind::ALL.iter().position(|&x| x == k).unwrap_or(0);
+    let report = |msg: String, st: &(Vec<f64>, usize)| {
+        let sum: f64 = st.0.iter().sum();
+        progress(&DiagnoseProgress {
+            stage: DiagnoseStage::Candidates,
+            fraction: BASELINE_SHARE + (0.95 - BASELINE_SHARE) * (sum / total).min(1.0),
+            message: msg,
+        });
+    };
+    // A candidate's path: three stages (four segments, two, one).
+    let on_level = |k: EffectKind, segments: usize, cost: f64| {
+        if let Ok(mut st) = state.lock() {
+            let slot = &mut st.0[index(k)];
+            *slot = slot.max(match segments {
+                0..=1 => 0.67,
+                2 => 0.33,
+                _ => 0.0,
+            });
+            let rms = (cost / residuals).sqrt();
+            report(format!("{k}: {segments} segment{}, {rms:.2} px", if segments == 1 { "" } else { "s" }), &st);
+        }
+    };
+    let on_done = |k: EffectKind| {
+        if let Ok(mut st) = state.lock() {
+            st.0[index(k)] = 1.0;
+            st.1 += 1;
+            let msg = format!("{} of {} candidates fitted over the whole run", st.1, kinds.len());
+            report(msg, &st);
+        }
+    };
+    fit_candidates(ms, baseline, levels, &kinds, &on_level, &on_done, cancel).map_err(lm_error)
+}
+
+/// Point A of a frame: the centroid of its marks when all four are tracked.
+fn centroid(f: &FrameMarks) -> Option<[f64; 2]> {
+    let mut s = [0.0; 2];
+    for m in f {
+        let m = (*m)?;
+        s[0] += m[0] / 4.0;
+        s[1] += m[1] / 4.0;
+    }
+    Some(s)
+}
+
+fn predicted_centroid(p: &[[f64; 2]; 4]) -> [f64; 2] {
+    [p.iter().map(|m| m[0]).sum::<f64>() / 4.0, p.iter().map(|m| m[1]).sum::<f64>() / 4.0]
+}
+
+fn image_size(base: &FitResult, rec: &Recording) -> [f64; 2] {
+    match (rec.header.image_width_px, rec.header.image_height_px) {
+        (Some(w), Some(h)) => [w, h],
+        _ => [2.0 * base.camera.centre_px[0], 2.0 * base.camera.centre_px[1]],
+    }
+}

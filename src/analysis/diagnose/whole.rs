@@ -1,0 +1,221 @@
+//! The diagnosis's misfit: one prediction of the whole run from one start state (single
+//! shooting), reached from the multiple-shooting fit by merging its segments pairwise until
+//! one is left (see the module doc of `analysis::diagnose` for why).
+
+use crate::analysis::fit::lm::{self, LmError, LmOptions};
+use crate::analysis::fit::shooting::{PredictedMarks, Shooting, predict_samples};
+use crate::analysis::fit::{Free, ModelSpec};
+use crate::physics::effects::EffectKind;
+use crate::physics::slip::painleve_mu_limit;
+use crate::physics::{Model, Sample, StateVec};
+use crate::recording::Camera;
+use crate::recording::marks::{MarkGeometry, mark_radius};
+use rayon::prelude::*;
+use std::ops::Range;
+use std::sync::atomic::AtomicBool;
+
+/// Iterations allowed at each intermediate segmentation (they only need to keep the path in
+/// the right valley), and at the final single segment.
+pub const LEVEL_ITERATIONS: usize = 6;
+const FINAL_ITERATIONS: usize = 20;
+/// The last stage stops when an iteration gains less than this share of the misfit: a BIC
+/// difference of 0.1 over 10,000 coordinates is a share of 1e-5.
+const FINAL_REL_TOL: f64 = 1e-5;
+
+/// A model fitted to the whole run from one state.
+#[derive(Clone, Debug)]
+pub struct WholeFit {
+    /// The effect fitted (`None` for the baseline).
+    pub kind: EffectKind,
+    pub c: [f64; 3],
+    pub c_sigma: [f64; 3],
+    /// The effect's strength and its sigma (infinite where the data do not constrain it).
+    pub strength: Option<(f64, f64)>,
+    /// The body's outer radius and width (model units) and their sigmas.
+    pub body: [(f64, f64); 2],
+    /// The start state at the first frame of `span` (model units).
+    pub start: StateVec,
+    /// Frames predicted: from the first inner turning point to the still end.
+    pub span: Range<usize>,
+    /// Sum of squared pixel residuals, their number, and the free parameters (drag, effect,
+    /// start state).
+    pub cost: f64,
+    pub residual_count: usize,
+    pub parameter_count: usize,
+    pub model: Model,
+    pub camera: Camera,
+    pub iterations: usize,
+    /// The internal parameters (`ln C`, strength): where a refit can start.
+    pub internal: Vec<f64>,
+    /// Time this fit took (s), its path included.
+    pub seconds: f64,
+}
+
+impl WholeFit {
+    /// RMS of model minus recording over every tracked mark coordinate of the span (px).
+    pub fn rms_px(&self) -> f64 {
+        (self.cost / self.residual_count.max(1) as f64).sqrt()
+    }
+
+    /// The model's samples at the span's frames (the final pose repeated after its end).
+    pub fn samples(&self, sh: &Shooting) -> Option<Vec<Sample>> {
+        predict_samples(&self.model, &sh.run, sh.dt, &self.start, self.span.clone())
+    }
+
+    /// The predicted marks at the span's frames (px), on the marks' circle of this fit's body.
+    pub fn marks(&self, sh: &Shooting) -> Option<PredictedMarks> {
+        let geometry = MarkGeometry { radius: mark_radius(&self.model.body), order: sh.geometry.order };
+        Some(self.samples(sh)?.iter().map(|s| sh.project(&geometry, &self.camera, s)).collect())
+    }
+}
+
+/// The multiple-shooting problem `ms` with the drag, the body's outer radius and width, and
+/// `kind`'s strength free, in that order (the strength last). The header's dimensions are
+/// caliper readings: over a whole run a width off by 1.5% (the sample's header says 18 mm of a
+/// 17.74 mm ring) misses by 3 px, a misfit that an effect would otherwise be named for.
+pub fn with_effect<'a>(ms: &Shooting<'a>, kind: EffectKind) -> Shooting<'a> {
+    let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
+    free.extend([Free::Body(0), Free::Body(1)]);
+    if kind != EffectKind::None {
+        free.push(Free::Effect(kind));
+    }
+    let strength_range = (kind != EffectKind::None).then(|| search_range(kind, painleve_mu_limit(&ms.spec.base)));
+    Shooting { spec: ModelSpec { free, strength_range, ..ms.spec.clone() }, ..ms.clone() }
+}
+
+/// Where the diagnosis looks for an effect's strength: from its baseline strength (zero; the
+/// lens: either sign) to four times its realistic range's far end; slip from a quarter of its
+/// low end to just below the Painleve limit `mu_max`. Beyond, the physics is no longer the
+/// effect's (a ring that skids through its whole run, drag ten times the paper's) and the runs
+/// crawl: a trial step there would cost a hundred ordinary ones.
+pub fn search_range(kind: EffectKind, mu_max: f64) -> (f64, f64) {
+    let (lo, hi) = kind.realistic_range();
+    match kind {
+        EffectKind::Slip => (0.25 * lo, 0.99 * mu_max),
+        EffectKind::CameraDistortion => {
+            let m = 4.0 * lo.abs().max(hi.abs());
+            (-m, m)
+        }
+        _ => (0.0, 4.0 * hi),
+    }
+}
+
+/// The multiple-shooting cost of `sh` at `global` with the segments' states held (infinite
+/// where the model cannot run): how well a strength suits the data before any refit.
+pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
+    let costs: Vec<f64> = (0..sh.segments.len())
+        .into_par_iter()
+        .map(|s| sh.segment_residuals(s, global, &states[s]).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum()))
+        .collect();
+    costs.iter().sum()
+}
+
+/// One stage of a path: its segments, globals and segment states after its fit.
+#[derive(Clone, Debug)]
+pub struct Level {
+    pub segments: Vec<Range<usize>>,
+    pub global: Vec<f64>,
+    pub states: Vec<StateVec>,
+}
+
+/// Fits the whole run with `sh`'s globals free from `global` (see [`with_effect`]), the
+/// segments' start states from `states`: the segments are merged pairwise, each time
+/// refitted, until one prediction spans the run. Every candidate walks the same path from the
+/// baseline's segments, so the misfits compare. With one segment it is plain single shooting.
+pub fn fit_whole(
+    sh: &Shooting,
+    global: Vec<f64>,
+    states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
+    fit_path(sh, global, states, on_iteration, cancel).map(|(w, _)| w)
+}
+
+/// [`fit_whole`], and the fitted stages of its path (for other paths to start from).
+pub fn fit_path(
+    sh: &Shooting,
+    global: Vec<f64>,
+    states: &[StateVec],
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<Level>), LmError> {
+    let clock = std::time::Instant::now();
+    let kind = sh.spec.free.iter().find_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None }).unwrap_or(EffectKind::None);
+    let mut sh = sh.clone();
+    let mut global = global;
+    let mut locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
+    let mut iterations = 0;
+    let mut levels = Vec::new();
+    // The previous stage's cost, residual count and free numbers.
+    let mut previous: Option<(f64, usize, usize)> = None;
+    let sol = loop {
+        let last = sh.segments.len() == 1;
+        let segments = sh.segments.len();
+        let as_states = |locals: &[Vec<f64>]| -> Vec<StateVec> { locals.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect() };
+        // Where the longer segments fit as they start, within what the freed states allow
+        // (the fit's merge rule), this stage needs no refit: the model follows the data over
+        // them already. Saves most of the work for a model that is right.
+        if !last && let Some((cost, count, params)) = previous {
+            let start = segment_cost(&sh, &global, &as_states(&locals));
+            let freed = (params - global.len() - 8 * segments) as f64;
+            let variance = cost / count.saturating_sub(params).max(1) as f64;
+            if start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance {
+                on_iteration(segments, start);
+                levels.push(Level { segments: sh.segments.clone(), global: global.clone(), states: as_states(&locals) });
+                previous = Some((start, count, global.len() + 8 * segments));
+                sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+                locals = locals.iter().step_by(2).cloned().collect();
+                continue;
+            }
+        }
+        let opts = LmOptions {
+            max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
+            rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
+            ..LmOptions::default()
+        };
+        let sol = lm::solve(&sh, global, locals, &opts, &mut |_, cost| on_iteration(segments, cost), cancel)?;
+        iterations += sol.iterations;
+        levels.push(Level { segments: sh.segments.clone(), global: sol.global.clone(), states: as_states(&sol.local) });
+        if last {
+            break sol;
+        }
+        previous = Some((sol.cost, sol.residual_count, sol.global.len() + 8 * segments));
+        sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        locals = sol.local.iter().step_by(2).cloned().collect();
+        global = sol.global;
+    };
+    let values = sh.spec.to_values(&sol.global);
+    let jac = sh.spec.value_per_internal(&sol.global);
+    let params = sol.global.len() + 8;
+    let variance = sol.cost / sol.residual_count.saturating_sub(params).max(1) as f64;
+    let sigma = |i: usize| {
+        sol.global_cov_unscaled
+            .as_ref()
+            .map(|c| c[(i, i)])
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .map_or(f64::INFINITY, |v| jac[i] * (variance * v).sqrt())
+    };
+    let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
+    let at = |want: Free| sh.spec.free.iter().position(|f| *f == want);
+    let value = |want: Free, default: f64| at(want).map_or((default, f64::INFINITY), |i| (values[i], sigma(i)));
+    let start: StateVec = sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
+    let fit = WholeFit {
+        kind,
+        c: [values[0], values[1], values[2]],
+        c_sigma: [sigma(0), sigma(1), sigma(2)],
+        strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
+        body: [value(Free::Body(0), model.body.r), value(Free::Body(1), model.body.h)],
+        start,
+        span: sh.segments[0].clone(),
+        cost: sol.cost,
+        residual_count: sol.residual_count,
+        parameter_count: params,
+        model,
+        camera,
+        iterations,
+        internal: sol.global,
+        seconds: clock.elapsed().as_secs_f64(),
+    };
+    Ok((fit, levels))
+}

@@ -1,0 +1,230 @@
+//! `ringlab diagnose`: which physics the paper's model left out of a recording, if any.
+
+use super::diagnose_report;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use ringlab::analysis::diagnose::{Diagnosis, DiagnoseOptions, DiagnoseProgress, diagnose};
+use ringlab::physics::EffectKind;
+use ringlab::recording::read_recording;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+#[derive(Args, Debug)]
+pub struct DiagnoseArgs {
+    /// The recording (format v1)
+    #[arg(value_name = "FILE.csv")]
+    pub file: PathBuf,
+    /// Print the result as one JSON object
+    #[arg(long)]
+    pub json: bool,
+    /// Write figures (PNG) and report.md into this folder
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// Only these candidates, comma-separated (default: every effect of `ringlab effects`)
+    #[arg(long, value_name = "NAME,..")]
+    pub candidates: Option<String>,
+    /// BIC drop an effect needs over the baseline to be named
+    #[arg(long, default_value_t = ringlab::analysis::diagnose::DEFAULT_EVIDENCE)]
+    pub evidence: f64,
+    /// Threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// The JSON object of `ringlab diagnose --json`.
+#[derive(Serialize, Debug)]
+pub struct DiagnoseJson {
+    pub left_out: &'static str,
+    pub mismatch: Option<WindowJson>,
+    pub before: FitJson,
+    pub after: FitJson,
+    pub candidates: Vec<CandidateJson>,
+    pub explanation: String,
+    pub compute_seconds: f64,
+    pub noise_px: f64,
+    pub windows: Vec<WindowJson>,
+    pub frames: usize,
+    pub frames_fitted: usize,
+    pub segments_rms_px: f64,
+}
+
+#[derive(Serialize, Debug)]
+pub struct WindowJson {
+    pub start_s: f64,
+    pub end_s: f64,
+    pub rms_px: f64,
+    pub share: f64,
+}
+
+#[derive(Serialize, Debug)]
+pub struct FitJson {
+    pub rms_px: f64,
+    pub score: f64,
+    pub effect: &'static str,
+    /// `C1..C3`, their sigmas, and the effect's strength with its sigma, by name.
+    pub params: BTreeMap<String, Option<f64>>,
+    pub end_s: Option<f64>,
+}
+
+#[derive(Serialize, Debug)]
+pub struct CandidateJson {
+    pub name: &'static str,
+    pub rms_px: Option<f64>,
+    pub score: Option<f64>,
+    pub delta_score: Option<f64>,
+    pub strength: Option<f64>,
+    pub strength_sigma: Option<f64>,
+    pub error: Option<String>,
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl DiagnoseJson {
+    pub fn new(d: &Diagnosis) -> DiagnoseJson {
+        let window = |w: &ringlab::analysis::diagnose::MismatchWindow| WindowJson { start_s: w.start_s, end_s: w.end_s, rms_px: w.rms_px, share: w.share };
+        let fit = |f: &ringlab::analysis::diagnose::ModelFit| {
+            let mut params = BTreeMap::new();
+            for i in 0..3 {
+                params.insert(format!("C{}", i + 1), finite(f.c[i]));
+                params.insert(format!("C{}_sigma", i + 1), finite(f.c_sigma[i]));
+            }
+            for (i, name) in ["R_mm", "h_mm"].iter().enumerate() {
+                params.insert(name.to_string(), finite(f.body_mm[i].0));
+                params.insert(format!("{name}_sigma"), finite(f.body_mm[i].1));
+            }
+            if let Some((v, s)) = f.strength {
+                params.insert(f.effect.name().to_string(), finite(v));
+                params.insert(format!("{}_sigma", f.effect.name()), finite(s));
+            }
+            FitJson { rms_px: f.rms_px, score: f.score, effect: f.effect.name(), params, end_s: f.end_s }
+        };
+        DiagnoseJson {
+            left_out: d.left_out.name(),
+            mismatch: d.mismatch.as_ref().map(window),
+            before: fit(&d.before),
+            after: fit(&d.after),
+            candidates: d
+                .candidates
+                .iter()
+                .map(|c| CandidateJson {
+                    name: c.effect.name(),
+                    rms_px: finite(c.rms_px),
+                    score: finite(c.score),
+                    delta_score: finite(c.delta_score),
+                    strength: c.strength.and_then(|s| finite(s.0)),
+                    strength_sigma: c.strength.and_then(|s| finite(s.1)),
+                    error: c.error.clone(),
+                })
+                .collect(),
+            explanation: d.explanation.clone(),
+            compute_seconds: d.compute_seconds,
+            noise_px: d.noise_px,
+            windows: d.windows.iter().map(window).collect(),
+            frames: d.frames,
+            frames_fitted: d.frames_fitted,
+            segments_rms_px: d.segments_rms_px,
+        }
+    }
+}
+
+/// The candidates named on the command line.
+pub fn parse_candidates(list: &str) -> Result<Vec<EffectKind>> {
+    let mut out = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let kind = EffectKind::from_name(name).with_context(|| {
+            let names: Vec<&str> = EffectKind::ALL.iter().map(|k| k.name()).collect();
+            format!("--candidates: '{name}' is not one of {}", names.join(", "))
+        })?;
+        if kind != EffectKind::None && !out.contains(&kind) {
+            out.push(kind);
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(args: &DiagnoseArgs) -> Result<()> {
+    if !(args.evidence.is_finite() && args.evidence >= 0.0) {
+        bail!("--evidence = {}: must be a number >= 0", args.evidence);
+    }
+    let mut opts = DiagnoseOptions { evidence: args.evidence, ..DiagnoseOptions::default() };
+    if let Some(list) = &args.candidates {
+        opts.candidates = parse_candidates(list)?;
+    }
+    let rec = read_recording(&args.file)?;
+
+    let bar = ProgressBar::hidden();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{bar:30}] {percent:>3}% {elapsed} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_length(1000);
+    let started = std::time::Instant::now();
+    let shown = Mutex::new(false);
+    let progress = |p: &DiagnoseProgress| {
+        if let Ok(mut s) = shown.lock()
+            && !*s
+            && started.elapsed() > Duration::from_millis(300)
+        {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            bar.enable_steady_tick(Duration::from_millis(120));
+            *s = true;
+        }
+        bar.set_message(p.message.clone());
+        let pos = (p.fraction.clamp(0.0, 1.0) * 1000.0) as u64;
+        if pos > bar.position() {
+            bar.set_position(pos);
+        }
+    };
+    let cancel = AtomicBool::new(false);
+    let result = match args.threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build()?;
+            pool.install(|| diagnose(&rec, &opts, &progress, &cancel))
+        }
+        None => diagnose(&rec, &opts, &progress, &cancel),
+    };
+    bar.finish_and_clear();
+    let d = result.with_context(|| format!("diagnosing {}", args.file.display()))?;
+    if let Some(dir) = &args.report {
+        diagnose_report::write(dir, &args.file, &rec, &d).with_context(|| format!("writing the report into {}", dir.display()))?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&DiagnoseJson::new(&d))?);
+        return Ok(());
+    }
+    print_summary(&args.file, &d);
+    if let Some(dir) = &args.report {
+        println!("report: {}", dir.join("report.md").display());
+    }
+    Ok(())
+}
+
+fn print_summary(file: &std::path::Path, d: &Diagnosis) {
+    println!("{}: {} frames, {} fitted; pixel noise {:.3} px", file.display(), d.frames, d.frames_fitted, d.noise_px);
+    println!("left out: {}", d.left_out);
+    match &d.mismatch {
+        Some(m) => println!("mismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the excess)", m.start_s, m.end_s, m.rms_px, 100.0 * m.share),
+        None => println!("mismatch: none beyond the noise"),
+    }
+    println!("misfit over the whole run: before {:.3} px, after {:.3} px", d.before.rms_px, d.after.rms_px);
+    println!("candidates (BIC, lower is better; baseline 0):");
+    for c in &d.candidates {
+        let strength = c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));
+        match &c.error {
+            Some(e) => println!("  {:<20} failed: {e}", c.effect.name()),
+            None => println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}", c.effect.name(), c.rms_px, c.delta_score, c.seconds),
+        }
+    }
+    println!();
+    println!("{}", d.explanation);
+    let stages: Vec<String> = d.stage_seconds.iter().map(|(n, s)| format!("{n} {s:.1} s")).collect();
+    println!("{:.1} s ({})", d.compute_seconds, stages.join(", "));
+}

@@ -1,0 +1,67 @@
+//! `ringlab diagnose` from the command line: the sample recording (made by the paper's model
+//! with nothing hidden) must come out as `none`; the JSON, the report's figures and text; clear
+//! errors for bad files and flags.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn ringlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ringlab")).args(args).output().expect("runs the binary")
+}
+
+fn assert_fails_with(args: &[&str], needles: &[&str]) {
+    let out = ringlab(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    for needle in needles {
+        assert!(err.contains(needle), "{args:?}: error does not mention '{needle}':\n{err}");
+    }
+}
+
+#[test]
+fn the_sample_is_none_with_json_and_a_report() {
+    let sample = common::shared_data("sample-ring.csv");
+    let dir: PathBuf = std::env::temp_dir().join(format!("ringlab-diagnose-{}", std::process::id()));
+    let out = ringlab(&["diagnose", sample.to_str().unwrap(), "--json", "--report", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(v["left_out"], "none", "{}", v["explanation"]);
+    assert!(v["mismatch"].is_null(), "{}", v["mismatch"]);
+    let (before, after) = (v["before"]["rms_px"].as_f64().unwrap(), v["after"]["rms_px"].as_f64().unwrap());
+    assert_eq!(before, after);
+    // The sample's noise is 0.5 px; its header's width (18 mm) is the 17.74 mm ring's rounded up.
+    assert!(before < 0.52, "misfit {before}");
+    let h = v["after"]["params"]["h_mm"].as_f64().unwrap();
+    assert!((h - 17.7408).abs() < 0.02, "fitted width {h} mm");
+    for (i, c) in [0.031, 0.066, 0.083].iter().enumerate() {
+        let got = v["after"]["params"][format!("C{}", i + 1)].as_f64().unwrap();
+        assert!((got / c - 1.0).abs() < 0.02, "C{} = {got}", i + 1);
+    }
+    let candidates = v["candidates"].as_array().unwrap();
+    assert_eq!(candidates.len(), 7);
+    for c in candidates {
+        assert!(c["name"].is_string() && c["rms_px"].is_number() && c["score"].is_number(), "{c}");
+    }
+    assert!(v["explanation"].as_str().unwrap().starts_with("Nothing was left out"));
+    assert!(v["compute_seconds"].as_f64().unwrap() > 0.0);
+    for png in ["trace.png", "residual.png", "candidates.png"] {
+        let bytes = std::fs::read(dir.join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
+        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 2000, "{png}");
+    }
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("**Left out: none**") && md.contains("(residual.png)") && md.contains("| rank | candidate"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_files_and_flags_are_clear_errors() {
+    assert_fails_with(&["diagnose", "no-such-file.csv"], &["no-such-file.csv"]);
+    let sample = common::shared_data("sample-ring.csv");
+    let s = sample.to_str().unwrap();
+    assert_fails_with(&["diagnose", s, "--candidates", "slip,wind"], &["'wind'", "reynolds_drag"]);
+    assert_fails_with(&["diagnose", s, "--evidence", "-1"], &["--evidence"]);
+    assert_fails_with(&["diagnose-bench", "--seeds", "0"], &["--seeds"]);
+}

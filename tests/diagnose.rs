@@ -1,0 +1,124 @@
+//! The diagnosis on recordings with a concealed effect (`analysis::diagnose::concealed`: the
+//! paper's ring with a random start state and drag, the effect at a random strength within
+//! its realistic range, 0.5 px of noise, made by `synth`, the header telling nothing): it must
+//! name the effect and lower the misfit; on a recording without one it must say none. One
+//! recording each (the first seed, not chosen) to keep the test time short; `ringlab
+//! diagnose-bench` runs twenty per effect for the README's table. The sample recording: see
+//! `cli_diagnose.rs`.
+
+use ringlab::analysis::diagnose::concealed::concealed_recording;
+use ringlab::analysis::diagnose::{Diagnosis, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, diagnose};
+use ringlab::physics::EffectKind;
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+
+const SEED: u64 = 1;
+
+fn run(kind: EffectKind) -> (Diagnosis, f64) {
+    let (rec, truth) = concealed_recording(kind, SEED).expect("a concealed recording");
+    assert!(rec.header.extra.is_empty(), "the header must not tell");
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).expect("a diagnosis");
+    (d, truth.strength)
+}
+
+/// What every diagnosis must hold, whatever it names.
+fn consistent(d: &Diagnosis) {
+    assert_eq!(d.candidates.len(), EffectKind::ALL.len(), "every effect and the baseline are ranked");
+    assert!(d.candidates.windows(2).all(|w| w[0].score <= w[1].score), "ranked by score");
+    let none = d.candidates.iter().find(|c| c.effect == EffectKind::None).expect("the baseline is ranked");
+    assert_eq!(none.delta_score, 0.0);
+    assert!((none.rms_px - d.before.rms_px).abs() < 1e-12, "the ranking and 'before' are the same misfit");
+    assert_eq!(d.before.residual_count, d.after.residual_count, "before and after over the same residuals");
+    assert!(d.after.rms_px <= d.before.rms_px + 1e-9);
+    let n = d.frames_fitted;
+    assert_eq!((d.residuals.t_s.len(), d.residuals.before_px.len(), d.residuals.after_px.len()), (n, n, n));
+    assert_eq!((d.trace.before_px.len(), d.trace.after_px.len(), d.trace.data_px.len()), (n, n, n));
+    assert_eq!(d.residuals.window_s.len(), d.residuals.window_before_px.len());
+    assert!(d.noise_from_marks && (d.noise_px - 0.5).abs() < 0.03, "noise {}", d.noise_px);
+    assert!(!d.explanation.is_empty());
+    if let Some(m) = &d.mismatch {
+        let (t0, t1) = (d.residuals.t_s[0], d.residuals.t_s[n - 1]);
+        assert!(m.start_s >= t0 && m.end_s <= t1 + 1.0 / d.fps + 1e-9 && m.start_s < m.end_s, "{m:?} outside {t0}..{t1}");
+    }
+}
+
+fn names(kind: EffectKind) {
+    let (d, truth) = run(kind);
+    consistent(&d);
+    assert_eq!(d.left_out, kind, "concealed {kind} at {truth}; diagnosis: {}", d.explanation);
+    // The effect found, the misfit down to the noise, the strength the one concealed.
+    assert!(d.after.rms_px < 0.5 * d.before.rms_px, "{kind}: {} -> {} px", d.before.rms_px, d.after.rms_px);
+    assert!(d.after.rms_px < 1.1 * d.noise_px, "{kind}: left {} px for noise {}", d.after.rms_px, d.noise_px);
+    let (value, sigma) = d.after.strength.expect("a fitted strength");
+    assert!(sigma.is_finite() && sigma > 0.0);
+    assert!((value - truth).abs() < 0.05 * truth.abs() + 5.0 * sigma, "{kind}: {value} +- {sigma}, concealed {truth}");
+    let mismatch = d.mismatch.as_ref().expect("where the baseline departs");
+    assert!(mismatch.rms_px > d.noise_px, "{mismatch:?}");
+    assert!(d.explanation.contains(kind.name()) || d.explanation.contains("Left out"));
+}
+
+#[test]
+fn names_reynolds_drag() {
+    names(EffectKind::ReynoldsDrag);
+}
+
+#[test]
+fn names_rolling_friction() {
+    names(EffectKind::RollingFriction);
+}
+
+#[test]
+fn names_pivot_friction() {
+    names(EffectKind::PivotFriction);
+}
+
+#[test]
+fn names_slip() {
+    names(EffectKind::Slip);
+}
+
+#[test]
+fn names_translational_drag() {
+    names(EffectKind::TranslationalDrag);
+}
+
+#[test]
+fn names_camera_distortion() {
+    names(EffectKind::CameraDistortion);
+}
+
+#[test]
+fn says_none_without_an_effect_and_reports_its_progress() {
+    let (rec, _) = concealed_recording(EffectKind::None, SEED).unwrap();
+    let seen = Mutex::new(Vec::new());
+    let d = diagnose(
+        &rec,
+        &DiagnoseOptions::default(),
+        &|p: &DiagnoseProgress| seen.lock().unwrap().push((p.stage, p.fraction)),
+        &AtomicBool::new(false),
+    )
+    .unwrap();
+    consistent(&d);
+    assert_eq!(d.left_out, EffectKind::None, "{}", d.explanation);
+    assert_eq!(d.after.rms_px, d.before.rms_px);
+    assert!(d.mismatch.is_none() && d.windows.is_empty(), "{:?}", d.mismatch);
+    assert!(d.before.rms_px < 1.05 * d.noise_px);
+    assert!(d.candidates.iter().all(|c| c.delta_score > -d.evidence), "{:?}", d.candidates);
+    let seen = seen.into_inner().unwrap();
+    assert!(seen.iter().all(|(_, f)| (0.0..=1.0).contains(f)));
+    assert!(matches!(seen.first(), Some((DiagnoseStage::BaselineFit(_), _))));
+    assert!(seen.iter().any(|(s, _)| *s == DiagnoseStage::Candidates));
+    assert_eq!(seen.last().map(|s| s.0), Some(DiagnoseStage::Explain));
+}
+
+#[test]
+fn cancelling_and_bad_input_are_errors() {
+    let (rec, _) = concealed_recording(EffectKind::None, SEED).unwrap();
+    let cancelled = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(true));
+    assert!(matches!(cancelled, Err(DiagnoseError::Cancelled)), "{cancelled:?}");
+    let opts = DiagnoseOptions { evidence: f64::NAN, ..DiagnoseOptions::default() };
+    assert!(matches!(diagnose(&rec, &opts, &|_| {}, &AtomicBool::new(false)), Err(DiagnoseError::Options(_))));
+    let short = ringlab::recording::Recording { frames: rec.frames[..20].to_vec(), ..rec };
+    let e = diagnose(&short, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).unwrap_err();
+    assert!(e.to_string().contains("too few frames"), "{e}");
+}
