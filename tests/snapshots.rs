@@ -98,6 +98,38 @@ fn app_sample_recording_fitted() {
     harness.snapshot_options("app_sample_recording_fitted", &options(w, h));
 }
 
+/// A recording with Reynolds-dependent drag concealed (the first seed of the diagnosis's
+/// tests), diagnosed in the window: the Diagnose tab with the finding, the candidates and the
+/// two models against the data; the mismatch shaded in the plots and drawn on the trace; the
+/// improved model running.
+#[test]
+fn app_diagnosed_reynolds_drag() {
+    let (w, h) = (1480u32, 920u32);
+    let (rec, _) = ringlab::analysis::diagnose::concealed::concealed_recording(ringlab::physics::EffectKind::ReynoldsDrag, 1).unwrap();
+    // The file's name shows in the picture: a fixed one, in a folder of this process's own.
+    let dir = std::env::temp_dir().join(format!("ringlab-snapshot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("concealed-reynolds_drag.csv");
+    ringlab::recording::write_recording(&mut std::fs::File::create(&path).unwrap(), &rec).unwrap();
+    let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 0.0 });
+    app.open_recording(path.clone());
+    app.side_tab = ringlab::ui::SideTab::Diagnose;
+    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Diagnose);
+    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Adopt(ringlab::sim::DiagnosedModel::Improved));
+    assert!(app.recording.diagnosed().is_some_and(|d| d.improved.as_ref().is_ok_and(|c| *c == app.settings.case)));
+    std::fs::remove_dir_all(&dir).ok();
+    let mut harness = builder(w, h).build_ui_state(
+        |ui, app: &mut RinglabApp| {
+            background(ui);
+            app.ui_root(ui)
+        },
+        app,
+    );
+    harness.state_mut().player.seek(3.0);
+    harness.run_steps(3);
+    harness.snapshot_options("app_diagnosed_reynolds_drag", &options(w, h));
+}
+
 #[test]
 fn scene_3d_paper_ring() {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe)");

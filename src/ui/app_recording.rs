@@ -1,6 +1,8 @@
 //! The app's side of a recording: opening it (menu, dialog, dropped files), adopting what its
-//! jobs finished (the model started from the recording, the fitted model), the user's actions.
+//! jobs finished (the model started from the recording, the fitted model), the user's actions
+//! (the recording's and the diagnosis's).
 
+use super::diagnose_panel::DiagnoseAction;
 use super::recording_panel::RecordingAction;
 use super::{RinglabApp, SideTab};
 use crate::config::CaseFile;
@@ -69,6 +71,21 @@ impl RinglabApp {
             A::CancelFit => self.recording.cancel_fit(),
             A::UseFit => {
                 if let Some(SessionEvent::Fitted(case)) = self.recording.readopt_fit() {
+                    self.adopt_case(case);
+                }
+            }
+        }
+        self.take_recording_events();
+    }
+
+    /// Does what the Diagnose tab asked for (in fixed mode the work is done when this returns).
+    pub fn act_on_diagnosis(&mut self, action: DiagnoseAction) {
+        match action {
+            DiagnoseAction::None => {}
+            DiagnoseAction::Diagnose => self.recording.start_diagnose(),
+            DiagnoseAction::Cancel => self.recording.cancel_diagnose(),
+            DiagnoseAction::Adopt(which) => {
+                if let Some(SessionEvent::Fitted(case)) = self.recording.adopt_diagnosed(which) {
                     self.adopt_case(case);
                 }
             }

@@ -2,9 +2,11 @@
 //! holds one run, or two side by side on one clock, each fed by an integrator thread
 //! ([`crate::sim`]) or, for tests and headless pictures, computed at once. A recording
 //! (File > Open recording, or dropped onto the window) is replayed beside the model and can be
-//! fitted ([`recording_panel`]; its state is a [`RecordingSession`]).
+//! fitted ([`recording_panel`]; its state is a [`RecordingSession`]), and diagnosed
+//! ([`diagnose_panel`]: the mismatch shaded on the plots and the trace, the models adoptable).
 
 pub mod controls;
+pub mod diagnose_panel;
 pub mod palette;
 mod app_recording;
 mod panels;
@@ -93,6 +95,7 @@ impl Run {
 pub enum SideTab {
     Model,
     Recording,
+    Diagnose,
 }
 
 pub struct RinglabApp {
@@ -392,6 +395,7 @@ impl RinglabApp {
             egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
                 SideTab::Model => self.parameters_panel_ui(ui),
                 SideTab::Recording => self.recording_tab_ui(ui),
+                SideTab::Diagnose => self.diagnose_tab_ui(ui),
             });
         });
         if self.live {
@@ -409,7 +413,7 @@ impl RinglabApp {
         if self.is_animating() {
             ui.ctx().request_repaint();
         } else if self.recording.busy() {
-            // A fit's progress, a file being read: nothing else may be moving.
+            // A fit's or a diagnosis's progress, a file being read: nothing else may be moving.
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
     }

@@ -41,5 +41,12 @@ pub const SLIP_FILL: Color32 = Color32::from_rgba_premultiplied(110, 70, 0, 45);
 /// A recording (its path, its ring, its series): green, apart from the phases and the runs.
 pub const DATA_RGB: [u8; 3] = [22, 150, 90];
 pub const DATA_COLOR: Color32 = Color32::from_rgb(DATA_RGB[0], DATA_RGB[1], DATA_RGB[2]);
+/// Where a diagnosis found the model departing from the recording: the recording's path
+/// there, and the shading of that window on the timelines.
+pub const MISMATCH_COLOR: Color32 = Color32::from_rgb(150, 40, 170);
+pub const MISMATCH_FILL: Color32 = Color32::from_rgba_premultiplied(75, 20, 85, 40);
+/// The diagnosis's two models against the data: the baseline and the improved model.
+pub const BASELINE_COLOR: Color32 = Color32::from_rgb(200, 120, 20);
+pub const IMPROVED_COLOR: Color32 = Color32::from_rgb(40, 110, 215);
 /// The recording's ring in 3D (linear RGB): a green-tinted metal.
 pub const DATA_BODY_LINEAR: [f32; 3] = [0.22, 0.55, 0.34];

@@ -4,10 +4,10 @@ use super::controls::{self, UnitLabels};
 use super::palette::{BODY_LINEAR, DATA_COLOR};
 use super::recording_panel::{self, RecordingAction};
 use super::recording_view::DataView;
-use super::{RinglabApp, SideTab, plots, scene, teach, trace_panel, view3d};
+use super::{RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
 use crate::config::load_preset;
 use crate::render::OrbitCamera;
-use crate::sim::Track;
+use crate::sim::{DiagnosedModel, Track};
 use eframe::egui::{self, RichText};
 
 impl RinglabApp {
@@ -52,6 +52,8 @@ impl RinglabApp {
             ui.selectable_value(&mut self.side_tab, SideTab::Model, RichText::new("Model").strong());
             let busy = if self.recording.fit_progress().is_some() || self.recording.loading().is_some() { " …" } else { "" };
             ui.selectable_value(&mut self.side_tab, SideTab::Recording, RichText::new(format!("Recording{busy}")).strong());
+            let busy = if self.recording.diagnose_progress().is_some() { " …" } else { "" };
+            ui.selectable_value(&mut self.side_tab, SideTab::Diagnose, RichText::new(format!("Diagnose{busy}")).strong());
         });
         ui.separator();
     }
@@ -60,6 +62,20 @@ impl RinglabApp {
         let in_use = self.recording.fitted().is_some_and(|f| f.case == self.settings.case);
         let action = recording_panel::recording_panel_ui(ui, &self.recording, in_use);
         self.act_on_recording(action);
+    }
+
+    pub(super) fn diagnose_tab_ui(&mut self, ui: &mut egui::Ui) {
+        let in_use = self.recording.diagnosed().and_then(|d| {
+            if d.improved.as_ref().is_ok_and(|c| *c == self.settings.case) {
+                Some(DiagnosedModel::Improved)
+            } else if d.baseline.as_ref().is_ok_and(|c| *c == self.settings.case) {
+                Some(DiagnosedModel::Baseline)
+            } else {
+                None
+            }
+        });
+        let action = diagnose_panel::diagnose_panel_ui(ui, &self.recording, in_use);
+        self.act_on_diagnosis(action);
     }
 
     /// The recording as shown now, in the first run's units.
@@ -129,7 +145,8 @@ impl RinglabApp {
         let label = self.runs.first().map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time)).unwrap_or_default();
         let data = self.data_view();
         let lines = data.as_ref().map(|d| d.plot_lines()).unwrap_or_default();
-        plots::plots_ui(ui, &runs, &label, &lines);
+        let mismatch = data.as_ref().and_then(|d| d.mismatch_plot);
+        plots::plots_ui(ui, &runs, &label, &lines, mismatch);
     }
 
     fn run_names(&self) -> Vec<String> {
@@ -165,7 +182,7 @@ impl RinglabApp {
             for i in 0..self.runs.len() {
                 let t = self.run_time(i);
                 // The recording goes with the first run (the one a recording's model is put in).
-                let overlays: Vec<trace_panel::Overlay> = data.iter().filter(|_| i == 0).map(|d| d.overlay()).collect();
+                let overlays: Vec<trace_panel::Overlay> = data.iter().filter(|_| i == 0).flat_map(|d| d.overlays()).collect();
                 ui.allocate_ui(egui::vec2(w, h), |ui| {
                     let title = format!("path of A from above: {}", names[i]);
                     trace_panel::trace_panel_with_ui(ui, &title, self.runs[i].track(), t, contact, bounds, &overlays);

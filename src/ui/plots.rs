@@ -3,7 +3,7 @@
 //! A recording's series ([`DataLine`]) share the plots of their quantity: `v_p` of data and
 //! model in one plot is the paper's Fig. 3 and 4a together.
 
-use super::palette::{LIFT_OFF_FILL, RUN_COLORS, SLIP_FILL};
+use super::palette::{LIFT_OFF_FILL, MISMATCH_FILL, RUN_COLORS, SLIP_FILL};
 use crate::physics::{Interval, Sample};
 use crate::sim::Track;
 use eframe::egui::{self, Color32, Id};
@@ -102,8 +102,9 @@ fn series(run: &PlotRun, value: fn(&Sample) -> f64) -> Vec<[f64; 2]> {
     pts
 }
 
-/// The four plots in a 2 x 2 grid filling the space given; `time_label`: the time axis' unit.
-pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[DataLine]) {
+/// The four plots in a 2 x 2 grid filling the space given; `time_label`: the time axis' unit;
+/// `mismatch`: a diagnosis's mismatch window on the time axis, shaded.
+pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[DataLine], mismatch: Option<[f64; 2]>) {
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new("Shaded: the model's assumptions fail there:").small());
         super::teach::swatch_ui(ui, LIFT_OFF_FILL);
@@ -116,6 +117,11 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[D
                 super::teach::swatch_ui(ui, RUN_COLORS[i % RUN_COLORS.len()]);
                 ui.label(egui::RichText::new(run.name).small());
             }
+        }
+        if mismatch.is_some() {
+            ui.separator();
+            super::teach::swatch_ui(ui, MISMATCH_FILL);
+            ui.label(egui::RichText::new("mismatch (diagnosis)").small());
         }
         // One entry per recording (its lines in several plots share the name and colour).
         let mut named: Vec<&str> = Vec::new();
@@ -134,7 +140,7 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[D
     egui::Grid::new("plots").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         for (k, q) in QUANTITIES.iter().enumerate() {
             let lines: Vec<&DataLine> = data.iter().filter(|d| d.quantity == q.id).collect();
-            ui.allocate_ui(cell, |ui| quantity_plot_ui(ui, q, runs, &lines, time_label, link, cell));
+            ui.allocate_ui(cell, |ui| quantity_plot_ui(ui, q, runs, &lines, time_label, link, cell, mismatch));
             if k % 2 == 1 {
                 ui.end_row();
             }
@@ -142,7 +148,17 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[D
     });
 }
 
-fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], data: &[&DataLine], time_label: &str, link: Id, cell: egui::Vec2) {
+#[allow(clippy::too_many_arguments)]
+fn quantity_plot_ui(
+    ui: &mut egui::Ui,
+    q: &Quantity,
+    runs: &[PlotRun],
+    data: &[&DataLine],
+    time_label: &str,
+    link: Id,
+    cell: egui::Vec2,
+    mismatch: Option<[f64; 2]>,
+) {
     ui.vertical(|ui| {
         ui.label(egui::RichText::new(q.label).small());
         let h = (cell.y - 20.0).max(40.0);
@@ -168,6 +184,12 @@ fn quantity_plot_ui(ui: &mut egui::Ui, q: &Quantity, runs: &[PlotRun], data: &[&
         let pad = 0.05 * (hi - lo).max(1e-9);
         let (lo, hi) = (lo - pad, hi + pad);
         plot.show(ui, |p| {
+            if let Some([a, b]) = mismatch.filter(|_| lo.is_finite() && hi.is_finite()) {
+                let iv = [Interval { start: a, end: b }];
+                if let Some((xs, y0, y1)) = bands(&iv, 1.0, lo, hi) {
+                    p.add(FilledArea::new("mismatch", &xs, &y0, &y1).fill_color(MISMATCH_FILL).allow_hover(false));
+                }
+            }
             for (i, (run, line)) in runs.iter().zip(lines).enumerate() {
                 let color = RUN_COLORS[i % RUN_COLORS.len()];
                 if lo.is_finite() && hi.is_finite() {

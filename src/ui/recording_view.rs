@@ -2,7 +2,7 @@
 //! on the display's clock: the path of A so far, where A is now, the ring's pose, and the
 //! series for the plots.
 
-use super::palette::DATA_COLOR;
+use super::palette::{DATA_COLOR, MISMATCH_COLOR};
 use super::plots::DataLine;
 use super::trace_panel::{Bounds, Overlay};
 use crate::physics::{Body, Conversion, Units};
@@ -21,6 +21,10 @@ pub struct DataView {
     /// `v_p` and `theta` against the plots' time.
     pub v_p: Vec<[f64; 2]>,
     pub theta: Vec<[f64; 2]>,
+    /// A diagnosis's mismatch window: the path of A inside it so far (model units), and the
+    /// window on the plots' time axis.
+    pub mismatch_path: Vec<[f64; 2]>,
+    pub mismatch_plot: Option<[f64; 2]>,
 }
 
 impl DataView {
@@ -41,6 +45,10 @@ impl DataView {
             _ => None,
         };
         let t_of = |i: usize| session.frame_seconds(i).unwrap_or(0.0) / plot_time_s;
+        let window = session.mismatch_display_s();
+        let inside = |i: usize| window.is_some_and(|(a, b)| session.frame_seconds(i).is_some_and(|s| s >= a && s <= b));
+        let mismatch_path: Vec<[f64; 2]> =
+            frames.iter().enumerate().filter(|(i, _)| inside(*i)).filter_map(|(_, f)| f.a_mm.map(len)).collect();
         let mut v_p = Vec::with_capacity(frames.len());
         let mut theta = Vec::with_capacity(frames.len());
         for (i, f) in frames.iter().enumerate() {
@@ -59,11 +67,18 @@ impl DataView {
             ring,
             v_p,
             theta,
+            mismatch_path,
+            mismatch_plot: window.map(|(a, b)| [a / plot_time_s, b / plot_time_s]),
         })
     }
 
-    pub fn overlay(&self) -> Overlay<'_> {
-        Overlay { points: &self.path, color: DATA_COLOR, now: self.now }
+    /// The path of A, and over it the stretch where a diagnosis found the mismatch.
+    pub fn overlays(&self) -> Vec<Overlay<'_>> {
+        let mut v = vec![Overlay { points: &self.path, color: DATA_COLOR, now: self.now, width: 1.2 }];
+        if self.mismatch_path.len() > 1 {
+            v.push(Overlay { points: &self.mismatch_path, color: MISMATCH_COLOR, now: None, width: 2.4 });
+        }
+        v
     }
 
     pub fn plot_lines(&self) -> Vec<DataLine<'_>> {

@@ -128,6 +128,8 @@ pub struct Overlay<'a> {
     pub color: Color32,
     /// Where it is now.
     pub now: Option<[f64; 2]>,
+    /// Line width (points).
+    pub width: f32,
 }
 
 /// Draws the panel for `track` at its time `t`, filling the space given. `bounds`: the region
@@ -213,7 +215,7 @@ pub fn trace_panel_with_ui(
     for o in overlays {
         let kept = simplify(o.points, tol, |_| false);
         if kept.len() > 1 {
-            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(1.2, o.color)));
+            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(o.width, o.color)));
         }
     }
 

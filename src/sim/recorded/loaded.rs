@@ -1,10 +1,11 @@
 //! A recording read and its motion recovered, and the cases the simulator adopts from it
-//! (the model started from the data; the fitted model).
+//! (the model started from the data; the fitted model; the diagnosis's models).
 
+use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::FitResult;
 use crate::config::{BodySection, CaseFile, DragSection, EffectsSection, InitialSection, RunSection, UnitsSection};
 use crate::physics::model::ix;
-use crate::physics::{Body, Initial, Units, paper};
+use crate::physics::{Body, EffectKind, Initial, Units, paper};
 use crate::recording::recover::{FrameMotion, RecoverError};
 use crate::recording::{ReadError, Recording, RecoveredMotion, read_recording, recover};
 use std::path::{Path, PathBuf};
@@ -66,8 +67,21 @@ impl LoadedRecording {
     /// A case file for a model of this recording's body (model units) with drag `c` and
     /// start `initial`.
     fn case_file(&self, name: String, description: String, c: [f64; 3], initial: &Initial, t_end: f64) -> Result<CaseFile, String> {
-        let u = self.units();
         let body: Body = self.motion.body_model().map_err(|e| format!("the recording's body: {e}"))?;
+        self.case_file_with(name, description, (body, EffectsSection::default()), c, initial, t_end)
+    }
+
+    /// As [`Self::case_file`] with another body (model units) and effects.
+    fn case_file_with(
+        &self,
+        name: String,
+        description: String,
+        (body, effects): (Body, EffectsSection),
+        c: [f64; 3],
+        initial: &Initial,
+        t_end: f64,
+    ) -> Result<CaseFile, String> {
+        let u = self.units();
         let file = CaseFile {
             name,
             description,
@@ -86,7 +100,7 @@ impl LoadedRecording {
                 y: initial.y_c,
             },
             run: RunSection { t_end, ..RunSection::default() },
-            effects: EffectsSection::default(),
+            effects,
         };
         file.build()?;
         Ok(file)
@@ -124,5 +138,23 @@ impl LoadedRecording {
         let name = format!("{}, fitted", self.name());
         let description = format!("the model fitted to {}: rms {:.3} px", self.name(), r.rms_px);
         self.case_file(name, description, r.c, &r.start, self.t_end_model())
+    }
+
+    /// The case of a diagnosis's model (the baseline or the improved one): the body as it
+    /// fitted, its drag, start state and effect. The camera's distortion is no physics: its
+    /// model runs as the paper's.
+    pub fn diagnosed_case(&self, m: &ModelFit) -> Result<CaseFile, String> {
+        let what = if m.effect == EffectKind::None { "baseline".to_string() } else { format!("with {}", m.effect) };
+        let name = format!("{}, diagnosed ({what})", self.name());
+        let description = format!("the diagnosis's model of {} ({what}): rms {:.3} px over the whole run", self.name(), m.rms_px);
+        let e = &m.model.effects;
+        let effects = EffectsSection {
+            reynolds_drag: e.reynolds_drag.map(|r| [r.re_ref, r.exponent, r.max_factor]),
+            rolling_friction: e.rolling_friction,
+            pivot_friction: e.pivot_friction,
+            translational_drag: e.translational_drag,
+            slip_mu: e.slip_mu,
+        };
+        self.case_file_with(name, description, (m.model.body.clone(), effects), m.c, &m.start, self.t_end_model())
     }
 }

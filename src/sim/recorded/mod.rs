@@ -1,5 +1,6 @@
 //! A recording in the window, without egui: reading it and recovering its motion, then fitting
-//! the model to it, each as a [`Job`] off the UI thread; what was loaded and fitted; the
+//! the model to it or diagnosing it, each as a [`Job`] off the UI thread; what was loaded,
+//! fitted and diagnosed; the
 //! recording frame by frame on the display's clock; the cases the simulator adopts.
 //!
 //! The clock: the display counts seconds from the model's start (t = 0). The model starts at
@@ -8,17 +9,21 @@
 //! that start from the first stored frame (frames are counted from the first stored one, as
 //! the fit counts them).
 
+mod diagnosing;
 mod fitting;
 mod loaded;
 
+pub use diagnosing::Diagnosed;
 pub use fitting::describe_fit_progress;
 pub use loaded::{LoadError, LoadedRecording};
 
 use super::file_dialog::{DialogOutcome, pick_recording};
 use super::job::{Job, JobLost, Progress};
+use crate::analysis::diagnose::{DiagnoseError, Diagnosis};
 use crate::analysis::fit::{FitError, FitResult};
 use crate::config::CaseFile;
 use crate::recording::recover::{Angles, FrameMotion};
+use diagnosing::run_diagnose;
 use fitting::run_fit;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -35,8 +40,15 @@ pub enum SessionEvent {
     /// A recording is loaded: start the model from this case (None: it has no start state;
     /// the model stays as it was).
     Loaded(Option<CaseFile>),
-    /// A fit is done: adopt its case.
+    /// A fit is done, or a diagnosis's model was chosen: adopt this case.
     Fitted(CaseFile),
+}
+
+/// Which of a diagnosis's models to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiagnosedModel {
+    Baseline,
+    Improved,
 }
 
 /// Everything about the recording in the window.
@@ -48,6 +60,8 @@ pub struct RecordingSession {
     dialog: Option<Job<DialogOutcome>>,
     fitting: Option<Job<Result<FitResult, FitError>>>,
     fitted: Option<Fitted>,
+    diagnosing: Option<Job<Result<Diagnosis, DiagnoseError>>>,
+    diagnosed: Option<Diagnosed>,
     /// Seconds from the first stored frame to the model's t = 0.
     offset_s: f64,
     /// A problem to show until dismissed (a file that could not be read, a failed fit).
@@ -65,6 +79,8 @@ impl RecordingSession {
             dialog: None,
             fitting: None,
             fitted: None,
+            diagnosing: None,
+            diagnosed: None,
             offset_s: 0.0,
             error: None,
             note: None,
@@ -77,6 +93,25 @@ impl RecordingSession {
 
     pub fn fitted(&self) -> Option<&Fitted> {
         self.fitted.as_ref()
+    }
+
+    pub fn diagnosed(&self) -> Option<&Diagnosed> {
+        self.diagnosed.as_ref()
+    }
+
+    /// Where the diagnosis is, while one runs.
+    pub fn diagnose_progress(&self) -> Option<Progress> {
+        self.diagnosing.as_ref().map(|j| j.progress())
+    }
+
+    pub fn diagnose_cancelling(&self) -> bool {
+        self.diagnosing.as_ref().is_some_and(|j| j.is_cancelling())
+    }
+
+    /// The mismatch window of the diagnosis on the display's clock (s from the model's t = 0).
+    pub fn mismatch_display_s(&self) -> Option<(f64, f64)> {
+        let l = self.loaded.as_ref()?;
+        self.diagnosed.as_ref()?.mismatch_display_s(l.recording.first_frame, l.fps(), self.offset_s)
     }
 
     /// The file being read, if any.
@@ -99,7 +134,7 @@ impl RecordingSession {
 
     /// Whether anything runs that the window should redraw for.
     pub fn busy(&self) -> bool {
-        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some()
+        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some() || self.diagnosing.is_some()
     }
 
     /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
@@ -119,11 +154,13 @@ impl RecordingSession {
         self.loading = Some((path, Job::start("read-recording", self.background, move |_| LoadedRecording::load(&p))));
     }
 
-    /// Forgets the recording (a running fit stops).
+    /// Forgets the recording (a running fit or diagnosis stops).
     pub fn close(&mut self) {
         self.loaded = None;
         self.fitted = None;
         self.fitting = None;
+        self.diagnosed = None;
+        self.diagnosing = None;
         self.loading = None;
         self.note = None;
         self.offset_s = 0.0;
@@ -145,6 +182,46 @@ impl RecordingSession {
     pub fn cancel_fit(&mut self) {
         if let Some(j) = &self.fitting {
             j.cancel();
+        }
+    }
+
+    /// Starts a diagnosis of the loaded recording (none while one runs).
+    pub fn start_diagnose(&mut self) {
+        let Some(l) = &self.loaded else { return };
+        if self.diagnosing.is_some() {
+            return;
+        }
+        self.note = None;
+        let rec = Arc::clone(&l.recording);
+        let background = self.background;
+        self.diagnosing = Some(Job::start("diagnose", background, move |ctx| run_diagnose(&rec, ctx, background)));
+    }
+
+    /// Asks a running diagnosis to stop.
+    pub fn cancel_diagnose(&mut self) {
+        if let Some(j) = &self.diagnosing {
+            j.cancel();
+        }
+    }
+
+    /// The case of one of the diagnosis's models, for the simulator; the clock's offset moves
+    /// to its start. None without a diagnosis; the error where the model cannot be run.
+    pub fn adopt_diagnosed(&mut self, which: DiagnosedModel) -> Option<SessionEvent> {
+        let l = self.loaded.as_ref()?;
+        let d = self.diagnosed.as_ref()?;
+        let case = match which {
+            DiagnosedModel::Baseline => &d.baseline,
+            DiagnosedModel::Improved => &d.improved,
+        };
+        match case {
+            Ok(c) => {
+                self.offset_s = d.offset_s(l.recording.first_frame, l.fps());
+                Some(SessionEvent::Fitted(c.clone()))
+            }
+            Err(e) => {
+                self.error = Some(format!("The diagnosed model cannot be run: {e}"));
+                None
+            }
         }
     }
 
@@ -177,6 +254,21 @@ impl RecordingSession {
                 Err(JobLost) => self.error = Some("The fit stopped unexpectedly".into()),
             }
         }
+        if let Some(done) = self.diagnosing.as_mut().and_then(|j| j.poll()) {
+            self.diagnosing = None;
+            match done {
+                Ok(Ok(d)) => {
+                    if let Some(l) = &self.loaded {
+                        let baseline = l.diagnosed_case(&d.before);
+                        let improved = l.diagnosed_case(&d.after);
+                        self.diagnosed = Some(Diagnosed { result: d, baseline, improved });
+                    }
+                }
+                Ok(Err(DiagnoseError::Cancelled)) => self.note = Some("the diagnosis was cancelled".into()),
+                Ok(Err(e)) => self.error = Some(format!("The diagnosis failed: {e}")),
+                Err(JobLost) => self.error = Some("The diagnosis stopped unexpectedly".into()),
+            }
+        }
         events
     }
 
@@ -188,6 +280,7 @@ impl RecordingSession {
             self.dialog.iter_mut().for_each(Job::finish);
             self.loading.iter_mut().for_each(|(_, j)| j.finish());
             self.fitting.iter_mut().for_each(Job::finish);
+            self.diagnosing.iter_mut().for_each(Job::finish);
             events.extend(self.poll());
         }
         events
@@ -196,6 +289,8 @@ impl RecordingSession {
     fn adopt_loaded(&mut self, l: LoadedRecording) -> SessionEvent {
         self.fitting = None;
         self.fitted = None;
+        self.diagnosing = None;
+        self.diagnosed = None;
         let start = l.start_case();
         let fps = l.fps();
         self.loaded = Some(l);
