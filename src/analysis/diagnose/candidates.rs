@@ -15,11 +15,12 @@
 
 use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, segment_cost, with_effect};
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
-use crate::analysis::fit::shooting::Shooting;
+use crate::analysis::fit::shooting::{Shooting, WorkBudget};
 use crate::physics::effects::EffectKind;
 use crate::physics::StateVec;
 use crate::physics::slip::painleve_mu_limit;
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 /// Strengths tried first for `kind`: nine log-spaced values from half the realistic range's
@@ -73,7 +74,7 @@ pub fn fit_candidate(
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
     let mu_max = mu_limit(ms);
-    let mut sh = with_effect(ms, kind);
+    let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = join.segments.clone();
     let trials = trial_strengths(kind, mu_max);
     let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain([s]).collect()).collect();
@@ -97,10 +98,22 @@ pub fn fit_candidate(
     Ok(fit)
 }
 
+/// Integration steps a candidate's fit may spend per frame of the recording (see
+/// [`WorkBudget`]). Rolling candidates spend 600 to 1,900 on the concealed recordings, slip
+/// about 3,000; without a cap one trial step into a crawling corner ran for minutes.
+pub const CANDIDATE_STEPS_PER_FRAME: u64 = 6_000;
+
+/// `sh` with a budget of its own for one candidate's fit.
+fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
+    let frames = sh.observed.len() as u64;
+    sh.budget = Some(Arc::new(WorkBudget::new(CANDIDATE_STEPS_PER_FRAME * frames)));
+    sh
+}
+
 /// Refits `kind` over the whole run as one segment from `from`'s drag and start state (at
 /// `strength`, for a candidate): the safeguards of the module doc.
 pub fn refit_from(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
-    let mut sh = with_effect(ms, kind);
+    let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = vec![from.span.clone()];
     let own = from.internal.len() - usize::from(from.kind != EffectKind::None);
     let mut g = from.internal[..own].to_vec();

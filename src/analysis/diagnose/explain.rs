@@ -171,11 +171,24 @@ pub fn explain(d: &Diagnosis) -> String {
             );
         }
         if let Some(c) = runner_up {
-            let _ = write!(
-                out,
-                " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
-                c.effect, c.rms_px, c.delta_score, d.evidence
-            );
+            let share = super::run::explained_share(d.before.rms_px, c.rms_px, d.noise_px);
+            if c.delta_score < -d.evidence {
+                let _ = write!(
+                    out,
+                    " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the misfit beyond the noise, and an effect must explain at least {:.0}% to be named.",
+                    c.effect,
+                    c.delta_score,
+                    c.rms_px,
+                    100.0 * share,
+                    100.0 * super::run::MIN_EXPLAINED
+                );
+            } else {
+                let _ = write!(
+                    out,
+                    " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
+                    c.effect, c.rms_px, c.delta_score, d.evidence
+                );
+            }
         }
         let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
         return out;

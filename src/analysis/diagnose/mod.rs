@@ -30,8 +30,10 @@
 //! **The criterion: BIC** `N ln(RSS/N) + k ln N`, `N` the mark coordinates, `k` the free
 //! numbers (3 drag + 8 start, +1 for an effect). With the right model the residuals are the
 //! recording's white pixel noise, where BIC is what it claims to be; an effect is named when
-//! its BIC is at least [`DEFAULT_EVIDENCE`] (10, "very strong") below the baseline's, else
-//! `none`. On recordings without an effect the nested candidates end at the baseline's misfit
+//! its BIC is at least [`DEFAULT_EVIDENCE`] (10, "very strong") below the baseline's and it
+//! explains at least half of the baseline's misfit beyond the noise ([`MIN_EXPLAINED`]: far
+//! from the noise the residuals are not white, and BIC rewards any parameter that bends the
+//! path a little), else `none`. On recordings without an effect the nested candidates end at the baseline's misfit
 //! and their BIC at `+ln N` (about 9.7 for 2,000 frames): no false alarm unless the noise
 //! itself lowers the misfit by more than 10 + ln N noise variances.
 //!
@@ -69,4 +71,4 @@ pub mod whole;
 
 pub use options::{DEFAULT_EVIDENCE, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
 pub use result::{Candidate, Diagnosis, MismatchWindow, ModelFit, ResidualSeries, Signature, Trace};
-pub use run::{bic, diagnose};
+pub use run::{MIN_EXPLAINED, bic, diagnose, explained_share};

@@ -173,6 +173,7 @@ impl FitResult {
             run: self.run.clone(),
             geometry: self.geometry,
             length_mm: self.units.length_mm,
+            budget: None,
         }
     }
 
@@ -245,6 +246,7 @@ pub fn fit(
         run: RunOptions { tol: opts.tolerances, theta_flat: FIT_THETA_FLAT, ..RunOptions::default() },
         geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
         length_mm: 1.0 / to_model.length,
+        budget: None,
     };
     let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
     if let (Some((_, strength)), Some(g)) = (opts.effect, global.get_mut(3)) {

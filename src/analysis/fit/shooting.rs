@@ -13,6 +13,8 @@ use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
 use crate::recording::marks::{MarkGeometry, mark_radius};
 use crate::recording::{Camera, FrameMarks, MARKS};
 use std::ops::Range;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The predicted pixel positions of the marks, frame by frame.
 pub type PredictedMarks = Vec<[[f64; 2]; MARKS]>;
@@ -32,6 +34,36 @@ pub struct Shooting<'a> {
     pub geometry: MarkGeometry,
     /// The model's unit of length in mm.
     pub length_mm: f64,
+    /// Integration steps this fit may spend in all (None: no limit); shared by its clones.
+    pub budget: Option<Arc<WorkBudget>>,
+}
+
+/// A cap on the integration steps of one fit, shared by the threads that work for it. Once it
+/// is spent every prediction fails as if outside the model's domain, and the least squares stop
+/// where they are: a deterministic bound on a fit that crawls (sliding runs, trial steps into
+/// stiff corners), where a clock would make the result depend on the machine.
+#[derive(Debug)]
+pub struct WorkBudget {
+    used: AtomicU64,
+    limit: u64,
+}
+
+impl WorkBudget {
+    pub fn new(limit: u64) -> WorkBudget {
+        WorkBudget { used: AtomicU64::new(0), limit }
+    }
+
+    pub fn spent(&self) -> bool {
+        self.used.load(Ordering::Relaxed) >= self.limit
+    }
+
+    pub fn used(&self) -> u64 {
+        self.used.load(Ordering::Relaxed)
+    }
+
+    fn charge(&self, steps: u64) {
+        self.used.fetch_add(steps, Ordering::Relaxed);
+    }
 }
 
 /// Integration steps per frame beyond which a prediction is abandoned (see [`predict_samples`]).
@@ -40,11 +72,16 @@ pub const STEPS_PER_FRAME: u64 = 100;
 /// The model's samples at the frames `range` from state `y0` at the first of them: one per
 /// frame, the final pose repeated after the run's end. None when the run cannot start.
 pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> Option<Vec<Sample>> {
+    predict_samples_counted(model, run, dt, y0, range).0
+}
+
+/// As [`predict_samples`], with the integration steps it took.
+pub fn predict_samples_counted(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> (Option<Vec<Sample>>, u64) {
     let t0 = range.start as f64 * dt;
     let n = range.len();
     let opts = RunOptions { t_end: t0 + n as f64 * dt, sample_dt: Some(dt), track_validity: false, ..run.clone() };
     let t_end = opts.t_end;
-    let mut sim = Simulation::from_state(model.clone(), t0, *y0, opts).ok()?;
+    let Ok(mut sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else { return (None, 0) };
     let mut grid = Vec::with_capacity(n);
     let mut sink = |s: &Sample| {
         if grid.len() < n {
@@ -59,9 +96,9 @@ pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, 
     let mut t = t0;
     while sim.end_reason().is_none() && t < t_end {
         t = (t + 16.0 * dt).min(t_end);
-        sim.advance(t, &mut sink);
+        sim.advance_limited(t, budget + 1, &mut sink);
         if sim.stats().steps > budget {
-            return None;
+            return (None, sim.stats().steps);
         }
     }
     let summary = sim.finish();
@@ -74,7 +111,7 @@ pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, 
     };
     grid.truncate(moving.min(grid.len()));
     grid.resize(n, summary.final_sample);
-    Some(grid)
+    (Some(grid), summary.stats.steps)
 }
 
 impl Shooting<'_> {
@@ -95,9 +132,22 @@ impl Shooting<'_> {
         m.map(|p| camera.to_px(p[0] * self.length_mm, p[1] * self.length_mm))
     }
 
+    /// The model's samples over segment `s` from `y0`, charged to the budget (None once it is
+    /// spent).
+    pub fn samples(&self, model: &Model, s: usize, y0: &StateVec) -> Option<Vec<Sample>> {
+        if self.budget.as_ref().is_some_and(|b| b.spent()) {
+            return None;
+        }
+        let (samples, steps) = predict_samples_counted(model, &self.run, self.dt, y0, self.segments[s].clone());
+        if let Some(b) = &self.budget {
+            b.charge(steps);
+        }
+        samples
+    }
+
     /// Predicted marks of segment `s` from its start state.
     pub fn predict(&self, model: &Model, camera: &Camera, s: usize, y0: &StateVec) -> Option<PredictedMarks> {
-        let samples = predict_samples(model, &self.run, self.dt, y0, self.segments[s].clone())?;
+        let samples = self.samples(model, s, y0)?;
         let geometry = self.geometry_of(model);
         Some(samples.iter().map(|x| self.project(&geometry, camera, x)).collect())
     }
@@ -177,7 +227,7 @@ impl Shooting<'_> {
         if y0.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let samples = predict_samples(&model, &self.run, self.dt, &y0, self.segments[s].clone())?;
+        let samples = self.samples(&model, s, &y0)?;
         let geometry = self.geometry_of(&model);
         let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks { samples.iter().map(|x| self.project(&geometry, &camera, &f(x))).collect() };
         let base = self.residuals_of(s, &project(&|x| *x));

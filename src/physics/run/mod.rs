@@ -278,6 +278,15 @@ impl Simulation {
         self.end_reason()
     }
 
+    /// As [`Self::advance`], stopping early (without an end) once the run has taken
+    /// `max_steps` steps in all: a caller's budget (the run can go on with another call).
+    pub fn advance_limited(&mut self, t_stop: f64, max_steps: u64, sink: &mut impl FnMut(&Sample)) -> Option<EndReason> {
+        while self.end.is_none() && self.contact.t() < t_stop && self.stats().steps < max_steps {
+            self.one_step(sink);
+        }
+        self.end_reason()
+    }
+
     /// Runs to the end (`t_end` at the latest).
     pub fn run(mut self, sink: &mut impl FnMut(&Sample)) -> RunSummary {
         let t_end = self.opts.t_end;
