@@ -17,3 +17,9 @@ $r render --preset paper-ring --compare paper-disk-drag --time 126 --view top --
 $r render --preset paper-ring --time 60 --view app --width 1480 --height 920 --why --out $out/app.png
 # The sample recording opened and fitted: data (green) and the fitted model replayed together.
 $r render --view app --width 1480 --height 920 --recording ../shared/data/sample-ring.csv --fit --time 60 --out $out/app-recording-fit.png
+# A recording with slip concealed (synth's own, 0.5 px of noise), diagnosed in the window: the
+# Diagnose tab, the mismatch shaded, the improved model (with slip) replayed beside the data.
+tmp=$(mktemp -d)
+$r synth --preset steel-ring --effect slip --effect-strength 0.3 --noise-px 0.5 --seed 3 --out $tmp/slip.csv
+$r render --view app --width 1480 --height 920 --recording $tmp/slip.csv --diagnose --time 40 --out $out/app-diagnosed.png
+rm -rf "$tmp"

@@ -44,6 +44,7 @@ fn bad_flags_are_named() {
         (vec!["render", "--time", "1", "--camera", "1,2", "--out", png], "--camera"),
         (vec!["render", "--time", "1", "--compare", "nosuch", "--out", png], "nosuch"),
         (vec!["render", "--time", "1", "--out", "/nonexistent-dir/x.png"], "does not exist"),
+        (vec!["render", "--time", "1", "--view", "app", "--diagnose", "--out", png], "--recording"),
     ] {
         let out = ringlab(&args);
         let err = String::from_utf8_lossy(&out.stderr);

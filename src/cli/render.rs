@@ -7,8 +7,10 @@ use ringlab::config::{Case, load_preset};
 use ringlab::render::{Gpu, OrbitCamera, SceneRenderer, UiRenderer};
 use ringlab::sim::Track;
 use ringlab::ui::palette::BODY_LINEAR;
+use ringlab::sim::DiagnosedModel;
+use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::recording_panel::RecordingAction;
-use ringlab::ui::{Mode, RinglabApp, Settings, scene, trace_panel};
+use ringlab::ui::{Mode, RinglabApp, Settings, SideTab, scene, trace_panel};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -58,6 +60,9 @@ pub struct RenderArgs {
     /// Fit the model to --recording first (the window's Fit button)
     #[arg(long, requires = "recording")]
     pub fit: bool,
+    /// Diagnose --recording (the window's Diagnose tab) and run its improved model
+    #[arg(long, requires = "recording", conflicts_with = "fit")]
+    pub diagnose: bool,
     /// Output PNG file
     #[arg(long, value_name = "FILE.png")]
     pub out: PathBuf,
@@ -126,6 +131,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let mut app = RinglabApp::new(settings, Mode::Fixed { seconds });
             if let Some(path) = &args.recording {
                 open_recording(&mut app, path, args.fit)?;
+                if args.diagnose {
+                    diagnose_recording(&mut app)?;
+                }
                 app.seek_model_time(args.time);
             }
             let mut ui_renderer = UiRenderer::new(&gpu);
@@ -150,6 +158,21 @@ fn open_recording(app: &mut RinglabApp, path: &Path, fit: bool) -> Result<()> {
         if let Some(e) = app.recording.error.take() {
             bail!("{e}");
         }
+    }
+    Ok(())
+}
+
+/// Diagnoses the open recording and runs the improved model, as the Diagnose tab's buttons do.
+fn diagnose_recording(app: &mut RinglabApp) -> Result<()> {
+    app.side_tab = SideTab::Diagnose;
+    app.act_on_diagnosis(DiagnoseAction::Diagnose);
+    app.finish_recording_jobs();
+    if let Some(e) = app.recording.error.take() {
+        bail!("{e}");
+    }
+    app.act_on_diagnosis(DiagnoseAction::Adopt(DiagnosedModel::Improved));
+    if let Some(e) = app.recording.error.take() {
+        bail!("{e}");
     }
     Ok(())
 }

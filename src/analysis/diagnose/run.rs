@@ -170,7 +170,9 @@ pub fn diagnose(
 
     let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
     let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
-    let pred_followed = departure.fit.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    // The stretch's fit run on over the whole span (its own span is the stretch alone).
+    let followed_on = WholeFit { span: baseline.span.clone(), ..departure.fit.clone() };
+    let pred_followed = followed_on.marks(&ms).ok_or(DiagnoseError::Baseline)?;
     let span = baseline.span.clone();
     let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
     let to_s = |t_model: f64| time_s(t_model / base.dt);
@@ -181,7 +183,7 @@ pub fn diagnose(
     let win_before = windows(&sums_before, noise_px, width);
     let win_after = windows(&sums_after, noise_px, width);
     let win_followed = windows(&sums_followed, noise_px, width);
-    let (mismatch, found) = mismatch_windows(&departure, &span, &sums_followed, &win_followed, &sums_before, noise_px, &time_s);
+    let (mismatch, found) = mismatch_windows(&departure, &span, (&sums_followed, &win_followed), (&sums_before, &win_before), noise_px, &time_s);
 
     let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
     let (end_before, _) = run_end(&baseline, &ms, t_stop);
@@ -267,9 +269,8 @@ pub fn diagnose(
 fn mismatch_windows(
     departure: &Departure,
     span: &Range<usize>,
-    sums: &[(f64, usize)],
-    wins: &[super::residual::Window],
-    before: &[(f64, usize)],
+    (sums, wins): (&[(f64, usize)], &[super::residual::Window]),
+    (before, wins_before): (&[(f64, usize)], &[super::residual::Window]),
     noise_px: f64,
     time_s: &dyn Fn(f64) -> f64,
 ) -> (Option<MismatchWindow>, Vec<MismatchWindow>) {
@@ -289,7 +290,11 @@ fn mismatch_windows(
         MismatchWindow { start_s: time_s((span.start + r.start) as f64), end_s: time_s((span.start + r.end) as f64), rms_px, share }
     };
     let found: Vec<Range<usize>> = departures(wins).into_iter().map(|(r, _)| r.start.max(from)..r.end).filter(|r| r.end > r.start).collect();
-    let end = found.last().map_or(sums.len(), |r| r.end).max(from + 1).min(sums.len());
+    // The mismatch runs on to the last window where the stretch's fit or the whole-run baseline
+    // departs: where the departure is at the very start, the stretch's fit knows only the first
+    // frames and can stop departing where a fit to so little happens to pass by the data.
+    let last_before = departures(wins_before).last().map(|(r, _)| r.end);
+    let end = found.last().map(|r| r.end).into_iter().chain(last_before).max().unwrap_or(before.len()).max(from + 1).min(sums.len().min(before.len()));
     (Some(window(from..end)), found.into_iter().map(window).collect())
 }
 

@@ -8,6 +8,7 @@ use super::super::slip::{
     REFERENCE_FREE_SPEEDS, SlidingModel, onset_direction, sliding_state, slip_velocity, stick, stick_margin,
 };
 use super::{EVENT_T_TOL, EndReason, Sample, Simulation, add_stats};
+use super::super::integrator::IntegratorError;
 
 /// What happens at a switch found inside a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,25 +114,35 @@ impl Simulation {
         let Contact::Sliding(old) = &self.contact else { return };
         let mut system = old.system.clone();
         system.set_reference(slip_velocity(&system.model, &ys));
-        let done = self.contact.stats();
-        match Contact::sliding(system, t, ys, self.opts.tol, self.opts.h_max) {
-            Ok(c) => {
-                self.stats_done = add_stats(self.stats_done, done);
-                self.contact = c;
-            }
-            Err(e) => {
-                self.final_sample = self.contact.sample_at(t);
-                self.error = Some(e);
-                self.end = Some((EndReason::NonFinite, t));
-                sink(&self.final_sample);
-                return;
-            }
+        let next = Contact::sliding(system, t, ys, self.opts.tol, self.opts.h_max);
+        if !self.install(next, t, sink) {
+            return;
         }
         let s = self.contact.sample_now();
         self.margins = self.validity_margins(&s);
         self.switch_margin = self.current_switch_margin();
         // At the creep boundary now: no second entry until a step has left it.
         self.slip_speed_start = 0.0;
+    }
+
+    /// Puts the new contact in place at `t` (the old one's work counted), or ends the run
+    /// there when it could not be started. False when the run ended.
+    fn install(&mut self, next: Result<Contact, IntegratorError>, t: f64, sink: &mut impl FnMut(&Sample)) -> bool {
+        let done = self.contact.stats();
+        match next {
+            Ok(c) => {
+                self.stats_done = add_stats(self.stats_done, done);
+                self.contact = c;
+                true
+            }
+            Err(e) => {
+                self.final_sample = self.contact.sample_at(t);
+                self.error = Some(e);
+                self.end = Some((EndReason::NonFinite, t));
+                sink(&self.final_sample);
+                false
+            }
+        }
     }
 
     /// Switches the contact at `t` within the last step (rolling to sliding, or a stick).
@@ -171,19 +182,8 @@ impl Simulation {
                 }
             }
         };
-        let done = self.contact.stats();
-        match next {
-            Ok(c) => {
-                self.stats_done = add_stats(self.stats_done, done);
-                self.contact = c;
-            }
-            Err(e) => {
-                self.final_sample = self.contact.sample_at(t);
-                self.error = Some(e);
-                self.end = Some((EndReason::NonFinite, t));
-                sink(&self.final_sample);
-                return;
-            }
+        if !self.install(next, t, sink) {
+            return;
         }
         let s = self.contact.sample_now();
         self.sliding.update(t, s.sliding);
