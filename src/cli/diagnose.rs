@@ -29,7 +29,7 @@ pub struct DiagnoseArgs {
     #[arg(long, value_name = "NAME,..")]
     pub candidates: Option<String>,
     /// BIC drop an effect needs over the baseline to be named
-    #[arg(long, default_value_t = ringlab::analysis::diagnose::DEFAULT_EVIDENCE)]
+    #[arg(long, default_value_t = ringlab::analysis::diagnose::DEFAULT_EVIDENCE, allow_negative_numbers = true)]
     pub evidence: f64,
     /// Threads (default: all cores)
     #[arg(long)]
