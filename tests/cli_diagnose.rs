@@ -4,22 +4,10 @@
 
 mod common;
 
+use common::{assert_fails_with, ringlab};
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn ringlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ringlab")).args(args).output().expect("runs the binary")
-}
-
-fn assert_fails_with(args: &[&str], needles: &[&str]) {
-    let out = ringlab(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} succeeded");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
-    for needle in needles {
-        assert!(err.contains(needle), "{args:?}: error does not mention '{needle}':\n{err}");
-    }
-}
 
 #[test]
 fn the_sample_is_none_with_json_and_a_report() {

@@ -3,22 +3,10 @@
 
 mod common;
 
+use common::{assert_fails_with, ringlab};
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn ringlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ringlab")).args(args).output().expect("runs the binary")
-}
-
-fn assert_fails_with(args: &[&str], needles: &[&str]) {
-    let out = ringlab(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} succeeded");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
-    for needle in needles {
-        assert!(err.contains(needle), "{args:?}: error does not mention '{needle}':\n{err}");
-    }
-}
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ringlab-{name}-{}", std::process::id()));

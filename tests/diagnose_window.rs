@@ -3,7 +3,9 @@
 //! trace, the improved model put in the simulator; the diagnosis on its thread, cancelled. The
 //! app runs in fixed mode (work done at once) except where the thread is the point.
 
-use eframe::egui;
+mod common;
+
+use common::Dropped;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ringlab::analysis::diagnose::concealed::concealed_recording;
@@ -11,21 +13,8 @@ use ringlab::physics::EffectKind;
 use ringlab::sim::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::{Mode, RinglabApp, Settings, SideTab};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
-
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &Path {
-        &self.0
-    }
-
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
 
 /// A recording of the paper's ring with `kind` concealed (the first seed), as a file.
 fn concealed_file(kind: EffectKind) -> PathBuf {
@@ -94,7 +83,7 @@ fn a_concealed_effect_is_diagnosed_in_the_window_and_its_model_adopted() {
 #[test]
 fn the_diagnosis_runs_on_its_thread_and_can_be_cancelled() {
     let mut app = RinglabApp::new(Settings::default(), Mode::Live);
-    app.open_recording(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/sample-ring.csv"));
+    app.open_recording(common::shared_data("sample-ring.csv"));
     app.finish_recording_jobs();
     app.act_on_diagnosis(DiagnoseAction::Diagnose);
     assert!(app.recording.diagnose_progress().is_some(), "the diagnosis runs on its thread");

@@ -6,6 +6,8 @@
 
 mod common;
 
+use common::Dropped;
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -15,19 +17,6 @@ use ringlab::ui::{Mode, RinglabApp, Settings, SideTab};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// A file as the window system hands it to egui when it is dropped.
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &Path {
-        &self.0
-    }
-
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
 
 fn harness() -> Harness<'static, RinglabApp> {
     let app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 1.0 });

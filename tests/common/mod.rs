@@ -1,7 +1,39 @@
-//! Shared test helpers: the independent reference solution in `../shared/data`.
+//! Shared test helpers: the independent reference solution in `../shared/data`, the binary
+//! run with arguments, a file as the window system drops it.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The `ringlab` binary run with `args`.
+pub fn ringlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ringlab")).args(args).output().expect("runs the binary")
+}
+
+/// `ringlab args` fails, without a panic, with an error that mentions every needle.
+pub fn assert_fails_with(args: &[&str], needles: &[&str]) {
+    let out = ringlab(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    for needle in needles {
+        assert!(err.contains(needle), "{args:?}: error does not mention '{needle}':\n{err}");
+    }
+}
+
+/// A file as the window system hands it to egui when it is dropped.
+#[derive(Debug)]
+pub struct Dropped(pub PathBuf);
+
+impl eframe::egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
 
 /// `../shared/data/NAME` beside the repository (CI clones ringlab beside `shared/`).
 pub fn shared_data(name: &str) -> PathBuf {
