@@ -188,14 +188,7 @@ pub fn fit_path(
     let values = sh.spec.to_values(&sol.global);
     let jac = sh.spec.value_per_internal(&sol.global);
     let params = sol.global.len() + 8;
-    let variance = sol.cost / sol.residual_count.saturating_sub(params).max(1) as f64;
-    let sigma = |i: usize| {
-        sol.global_cov_unscaled
-            .as_ref()
-            .map(|c| c[(i, i)])
-            .filter(|v| v.is_finite() && *v >= 0.0)
-            .map_or(f64::INFINITY, |v| jac[i] * (variance * v).sqrt())
-    };
+    let sigma = |i: usize| sol.global_sigma(i, params, &jac);
     let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
     let at = |want: Free| sh.spec.free.iter().position(|f| *f == want);
     let value = |want: Free, default: f64| at(want).map_or((default, f64::INFINITY), |i| (values[i], sigma(i)));

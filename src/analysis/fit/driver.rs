@@ -330,15 +330,8 @@ pub fn fit(
     let count = shooting.segments.len();
     let values = shooting.spec.to_values(&sol.global);
     let params = sol.global.len() + count * 8;
-    let variance = sol.cost / (sol.residual_count.saturating_sub(params)).max(1) as f64;
     let jac = shooting.spec.value_per_internal(&sol.global);
-    let sigma = |i: usize| {
-        sol.global_cov_unscaled
-            .as_ref()
-            .map(|c| c[(i, i)])
-            .filter(|v| v.is_finite() && *v >= 0.0)
-            .map_or(f64::INFINITY, |v| jac[i] * (variance * v).sqrt())
-    };
+    let sigma = |i: usize| sol.global_sigma(i, params, &jac);
     let segment_states: Vec<StateVec> = sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
     let (model, camera) = shooting.spec.build(&sol.global).ok_or(FitError::BadStart)?;
     let window = shooting.segments[0].len();

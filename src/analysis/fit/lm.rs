@@ -71,6 +71,21 @@ pub struct LmSolution {
     pub global_cov_unscaled: Option<DMatrix<f64>>,
 }
 
+impl LmSolution {
+    /// One-sigma uncertainty of global `i` in value space: its unscaled covariance times the
+    /// residual variance (`params` free numbers in all, locals included), through
+    /// `value_per_internal` (`d value / d internal` at the solution); infinite where the data
+    /// do not constrain it.
+    pub fn global_sigma(&self, i: usize, params: usize, value_per_internal: &[f64]) -> f64 {
+        let variance = self.cost / self.residual_count.saturating_sub(params).max(1) as f64;
+        self.global_cov_unscaled
+            .as_ref()
+            .map(|c| c[(i, i)])
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .map_or(f64::INFINITY, |v| value_per_internal[i] * (variance * v).sqrt())
+    }
+}
+
 struct Linearized {
     blocks: Vec<BlockJacobian>,
     cost: f64,
