@@ -5,7 +5,7 @@
 use super::worker::{Event, RunEnd};
 use crate::config::Case;
 use crate::physics::motion::{MotionAnalysis, Phase, analyze};
-use crate::physics::run::TurnKind;
+use crate::physics::run::{IntervalTracker, TurnKind};
 use crate::physics::{Interval, Sample, TurningPoint};
 
 /// States kept before the track thins itself out (every other state dropped, and from then on
@@ -59,54 +59,27 @@ pub struct Track {
     continued_at: Option<f64>,
 }
 
-/// Intervals where a condition held, built from a stream of states.
-#[derive(Clone, Debug, Default)]
-struct Intervals {
-    closed: Vec<Interval>,
-    open: Option<f64>,
-}
+/// Intervals where a condition held, built from the stream of states; a continued run's
+/// exact intervals spliced in ([`replace_from`]).
+type Intervals = IntervalTracker;
 
-impl Intervals {
-    fn update(&mut self, t: f64, inside: bool) {
-        match (self.open, inside) {
-            (None, true) => self.open = Some(t),
-            (Some(s), false) => {
-                self.closed.push(Interval { start: s, end: t });
-                self.open = None;
-            }
-            _ => {}
+/// Keeps what lies before `t0` in `ints` and appends the exact intervals of a run from `t0`.
+fn replace_from(ints: &mut Intervals, t0: f64, exact: &[Interval]) {
+    let mut kept = ints.until(t0);
+    kept.retain(|i| i.end < t0 || i.start < t0);
+    // An interval open across t0 is continued by the exact one starting at t0.
+    if let (Some(last), Some(first)) = (kept.last_mut(), exact.first()) {
+        if last.end >= t0 && first.start <= t0 {
+            last.end = first.end;
+            kept.extend_from_slice(&exact[1..]);
+            ints.closed = kept;
+            ints.open = None;
+            return;
         }
     }
-
-    fn until(&self, t: f64) -> Vec<Interval> {
-        let mut v: Vec<Interval> = self.closed.iter().filter(|i| i.start <= t).copied().collect();
-        if let Some(s) = self.open.filter(|&s| s <= t) {
-            v.push(Interval { start: s, end: t });
-        }
-        for i in &mut v {
-            i.end = i.end.min(t);
-        }
-        v
-    }
-
-    /// Keeps what lies before `t0` and appends the exact intervals of a run from `t0`.
-    fn replace_from(&mut self, t0: f64, exact: &[Interval]) {
-        let mut kept = self.until(t0);
-        kept.retain(|i| i.end < t0 || i.start < t0);
-        // An interval open across t0 is continued by the exact one starting at t0.
-        if let (Some(last), Some(first)) = (kept.last_mut(), exact.first()) {
-            if last.end >= t0 && first.start <= t0 {
-                last.end = first.end;
-                kept.extend_from_slice(&exact[1..]);
-                self.closed = kept;
-                self.open = None;
-                return;
-            }
-        }
-        kept.extend_from_slice(exact);
-        self.closed = kept;
-        self.open = None;
-    }
+    kept.extend_from_slice(exact);
+    ints.closed = kept;
+    ints.open = None;
 }
 
 impl Track {
@@ -222,8 +195,8 @@ impl Track {
             }
             Event::Ended { end, .. } => {
                 let t0 = self.segment_start();
-                self.lift_off.replace_from(t0, &end.lift_off);
-                self.slip.replace_from(t0, &end.slip);
+                replace_from(&mut self.lift_off, t0, &end.lift_off);
+                replace_from(&mut self.slip, t0, &end.slip);
                 self.reanalyse(end.t_end);
                 self.end = Some(end);
             }

@@ -60,15 +60,17 @@ pub struct RunSummary {
     pub error: Option<IntegratorError>,
 }
 
-/// Tracks one sign condition along the run and collects the intervals where it holds.
+/// Tracks one sign condition along a stream of times and collects the intervals where it
+/// holds (a run's lift-off and slip; the live view's, as the states arrive).
 #[derive(Clone, Debug, Default)]
-struct IntervalTracker {
-    open: Option<f64>,
-    closed: Vec<Interval>,
+pub struct IntervalTracker {
+    /// Where the interval still open began.
+    pub open: Option<f64>,
+    pub closed: Vec<Interval>,
 }
 
 impl IntervalTracker {
-    fn update(&mut self, t: f64, inside: bool) {
+    pub fn update(&mut self, t: f64, inside: bool) {
         match (self.open, inside) {
             (None, true) => self.open = Some(t),
             (Some(s), false) => {
@@ -78,7 +80,20 @@ impl IntervalTracker {
             _ => {}
         }
     }
-    fn finish(&mut self, t: f64) -> Vec<Interval> {
+    /// The intervals up to `t` (the open one, and any reaching past `t`, end there).
+    pub fn until(&self, t: f64) -> Vec<Interval> {
+        let mut v: Vec<Interval> = self.closed.iter().filter(|i| i.start <= t).copied().collect();
+        if let Some(s) = self.open.filter(|&s| s <= t) {
+            v.push(Interval { start: s, end: t });
+        }
+        for i in &mut v {
+            i.end = i.end.min(t);
+        }
+        v
+    }
+
+    /// Closes the open interval at `t` and hands over all of them.
+    pub fn finish(&mut self, t: f64) -> Vec<Interval> {
         if let Some(s) = self.open.take() {
             self.closed.push(Interval { start: s, end: t });
         }
