@@ -31,6 +31,8 @@ fn builder<S>(width: u32, height: u32) -> egui_kittest::HarnessBuilder<S> {
     let adapter = rs.adapter.get_info();
     Harness::builder()
         .with_size([width as f32, height as f32])
+        // The app's theme (it sets it itself; a panel drawn alone needs it here).
+        .with_theme(eframe::egui::Theme::Light)
         .with_context_setup(move |ctx| ringlab::ui::adapt_to_adapter(ctx, &adapter))
         .renderer(WgpuTestRenderer::from_render_state(rs))
 }

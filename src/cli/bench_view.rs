@@ -145,6 +145,7 @@ fn app_offscreen(frames: usize) -> Result<()> {
         "what": "whole app drawn offscreen at 1480x920 (one egui pass + 3D + plots + read-back)",
         "adapter": gpu.adapter.name,
         "cpu_ms_per_frame": cpu * 1e3 / frames.max(1) as f64,
+        "egui_drawing": ui.last_stats,
         "frame": stats(times),
     });
     println!("{}", serde_json::to_string_pretty(&report)?);

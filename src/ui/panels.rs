@@ -208,7 +208,7 @@ impl RinglabApp {
         for (i, rect) in rects.iter().enumerate() {
             let area = rect.shrink(8.0);
             let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area).layout(egui::Layout::top_down(egui::Align::Min)));
-            egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(4.0).inner_margin(6.0).show(&mut child, |ui| {
+            egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(ui.visuals().widgets.noninteractive.corner_radius).inner_margin(6.0).show(&mut child, |ui| {
                 ui.set_max_width(area.width().min(460.0));
                 teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
             });
