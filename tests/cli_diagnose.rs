@@ -53,3 +53,37 @@ fn bad_files_and_flags_are_clear_errors() {
     assert_fails_with(&["diagnose", s, "--evidence", "-1"], &["--evidence"]);
     assert_fails_with(&["diagnose-bench", "--seeds", "0"], &["--seeds"]);
 }
+
+/// The README's table made again from rows saved by `--out` (nothing diagnosed): rates, the
+/// median improvement, the markers' text replaced; bad rows named by file and line.
+#[test]
+fn the_bench_table_is_made_from_saved_rows() {
+    let dir = std::env::temp_dir().join(format!("ringlab-bench-rows-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let header = "effect,seed,strength,named,before_rms_px,after_rms_px,improvement,seconds,frames\n";
+    let slip = dir.join("slip.csv");
+    std::fs::write(&slip, format!("{header}slip,1,0.4,slip,10,0.5,20,12,1500\nslip,2,0.3,none,8,8,1,20,1600\nslip,3,0.5,slip,12,0.5,24,30,1700\n")).unwrap();
+    let none = dir.join("none.csv");
+    std::fs::write(&none, format!("{header}none,1,0,none,0.5,0.5,1,10,1400\n")).unwrap();
+    let readme = dir.join("README.md");
+    std::fs::write(&readme, "intro\n<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n").unwrap();
+    let args = |files: &str| vec!["diagnose-bench".to_string(), "--from-csv".into(), files.into(), "--readme".into(), readme.to_str().unwrap().into()];
+    let out = ringlab(&args(&format!("{},{}", slip.display(), none.display())).iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&readme).unwrap();
+    assert!(!text.contains("old table") && text.starts_with("intro\n") && text.ends_with("after\n"), "{text}");
+    assert!(text.contains("| none | - | 1 | 1/1 (false alarms 0%) |"), "{text}");
+    assert!(text.contains("| slip | 0.25 .. 0.6 | 3 | 2/3 (67%) | none | 11.00 -> 0.500 px (22.0x) | 20.0x | 20.0 / 30.0 s |"), "{text}");
+
+    // The same recording twice, a row that is not one, a file that is not a table.
+    let s = slip.to_str().unwrap();
+    assert_fails_with(&["diagnose-bench", "--from-csv", &format!("{s},{s}")], &["slip seed 1", "twice"]);
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, format!("{header}slip,1,0.4,slap,10,0.5,20,12,1500\n")).unwrap();
+    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "'slap'"]);
+    std::fs::write(&bad, format!("{header}slip,1,0.4,slip,ten,0.5,20,12,1500\n")).unwrap();
+    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "before_rms_px", "'ten'"]);
+    std::fs::write(&bad, "frame,x1,y1\n").unwrap();
+    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:1", "not a diagnose-bench table"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -40,10 +40,15 @@ pub struct DiagnoseBenchArgs {
     /// Keep the recordings the diagnosis got wrong in this folder
     #[arg(long, value_name = "DIR")]
     pub keep_wrong: Option<PathBuf>,
+    /// Diagnose nothing: make the table from the rows of these CSV files (written by --out by
+    /// earlier runs, e.g. one per effect), comma-separated
+    #[arg(long, value_name = "FILE.csv,..", value_delimiter = ',', conflicts_with_all = ["out", "keep_wrong", "strength"])]
+    pub from_csv: Vec<PathBuf>,
 }
 
 struct Row {
     effect: EffectKind,
+    seed: u64,
     named: EffectKind,
     before: f64,
     after: f64,
@@ -113,6 +118,53 @@ fn table(rows: &[Row], effects: &[EffectKind], fixed: Option<f64>) -> String {
     out
 }
 
+const CSV_HEADER: &str = "effect,seed,strength,named,before_rms_px,after_rms_px,improvement,seconds,frames";
+
+/// The rows of a CSV file that `--out` wrote (every one of its lines checked).
+fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, h)) if h.trim() == CSV_HEADER => {}
+        _ => bail!("{}:1: not a diagnose-bench table (its first line must be '{CSV_HEADER}')", path.display()),
+    }
+    let mut rows = Vec::new();
+    for (i, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
+        let at = format!("{}:{}", path.display(), i + 1);
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        if f.len() != 9 {
+            bail!("{at}: expected 9 fields, found {}", f.len());
+        }
+        let kind = |s: &str| EffectKind::from_name(s).ok_or_else(|| anyhow::anyhow!("{at}: '{s}' is not an effect"));
+        let num = |k: usize, what: &str| -> Result<f64> {
+            f[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| anyhow::anyhow!("{at}: {what} '{}' is not a number", f[k]))
+        };
+        rows.push(Row {
+            effect: kind(f[0])?,
+            seed: f[1].parse().map_err(|_| anyhow::anyhow!("{at}: seed '{}' is not a whole number", f[1]))?,
+            named: kind(f[3])?,
+            before: num(4, "before_rms_px")?,
+            after: num(5, "after_rms_px")?,
+            seconds: num(7, "seconds")?,
+            frames: f[8].parse().map_err(|_| anyhow::anyhow!("{at}: frames '{}' is not a count", f[8]))?,
+        });
+    }
+    Ok(rows)
+}
+
+/// Replaces the table between the markers of `readme`.
+fn write_readme(readme: &std::path::Path, t: &str) -> Result<()> {
+    let text = std::fs::read_to_string(readme).with_context(|| format!("reading {}", readme.display()))?;
+    let (Some(a), Some(b)) = (text.find(BEGIN), text.find(END)) else {
+        bail!("{} has no '{BEGIN}' ... '{END}' markers", readme.display());
+    };
+    if b < a {
+        bail!("{}: the diagnose-bench markers are out of order", readme.display());
+    }
+    let new = format!("{}{BEGIN}\n{t}{}", &text[..a], &text[b..]);
+    std::fs::write(readme, new).with_context(|| format!("writing {}", readme.display()))
+}
+
 pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     let effects: Vec<EffectKind> = match &args.effects {
         None => EffectKind::ALL.to_vec(),
@@ -124,6 +176,24 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
             v
         }
     };
+    if !args.from_csv.is_empty() {
+        let mut rows = Vec::new();
+        for p in &args.from_csv {
+            for r in read_rows(p)? {
+                if rows.iter().any(|o: &Row| o.effect == r.effect && o.seed == r.seed) {
+                    bail!("{}: {} seed {} is in the table twice (a recording counts once)", p.display(), r.effect.name(), r.seed);
+                }
+                rows.push(r);
+            }
+        }
+        rows.retain(|r| effects.contains(&r.effect));
+        if rows.is_empty() {
+            bail!("no rows of the effects asked for in {}", args.from_csv.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+        }
+        let t = table(&rows, &effects, None);
+        println!("{t}");
+        return args.readme.as_deref().map_or(Ok(()), |r| write_readme(r, &t));
+    }
     if args.seeds == 0 {
         bail!("--seeds must be at least 1");
     }
@@ -135,7 +205,7 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     let mut csv = match &args.out {
         Some(p) => {
             let mut f = std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
-            writeln!(f, "effect,seed,strength,named,before_rms_px,after_rms_px,improvement,seconds,frames")?;
+            writeln!(f, "{CSV_HEADER}")?;
             Some(f)
         }
         None => None,
@@ -164,6 +234,7 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
             let row = match d {
                 Ok(d) => Row {
                     effect: k,
+                    seed,
                     named: d.left_out,
                     before: d.before.rms_px,
                     after: d.after.rms_px,
@@ -215,16 +286,5 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     }
     let t = table(&rows, &effects, args.strength);
     println!("{t}");
-    if let Some(readme) = &args.readme {
-        let text = std::fs::read_to_string(readme).with_context(|| format!("reading {}", readme.display()))?;
-        let (Some(a), Some(b)) = (text.find(BEGIN), text.find(END)) else {
-            bail!("{} has no '{BEGIN}' ... '{END}' markers", readme.display());
-        };
-        if b < a {
-            bail!("{}: the diagnose-bench markers are out of order", readme.display());
-        }
-        let new = format!("{}{BEGIN}\n{t}{}", &text[..a], &text[b..]);
-        std::fs::write(readme, new).with_context(|| format!("writing {}", readme.display()))?;
-    }
-    Ok(())
+    args.readme.as_deref().map_or(Ok(()), |r| write_readme(r, &t))
 }
