@@ -123,7 +123,9 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
 pub struct UiRenderer {
     pub ctx: egui::Context,
     renderer: egui_wgpu::Renderer,
-    /// What the last frame asked of the rasteriser (the benchmarks report it).
+    /// Whether [`UiRenderer::render`] counts what egui asks of the rasteriser (it costs a
+    /// millisecond or two a frame), and the count of the last frame rendered with it on.
+    pub count_drawing: bool,
     pub last_stats: super::ui_stats::UiStats,
 }
 
@@ -139,7 +141,7 @@ impl UiRenderer {
             s.visuals.text_cursor.blink = false;
         });
         crate::ui::adapt_to_adapter(&ctx, &gpu.adapter);
-        UiRenderer { ctx, renderer, last_stats: Default::default() }
+        UiRenderer { ctx, renderer, count_drawing: false, last_stats: Default::default() }
     }
 
     /// Runs `ui` for `passes` frames on a `size`-pixel screen (pixels per point 1; layout
@@ -167,7 +169,9 @@ impl UiRenderer {
         }
         let Some(output) = output else { return Err(RenderError::Readback("no frame".into())) };
         let jobs = self.ctx.tessellate(output.shapes, output.pixels_per_point);
-        self.last_stats = super::ui_stats::UiStats::of(&jobs);
+        if self.count_drawing {
+            self.last_stats = super::ui_stats::UiStats::of(&jobs);
+        }
         let desc = egui_wgpu::ScreenDescriptor { size_in_pixels: size, pixels_per_point: output.pixels_per_point };
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ui"),
