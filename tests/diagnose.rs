@@ -136,3 +136,30 @@ fn cancelling_and_bad_input_are_errors() {
     let e = diagnose(&short, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).unwrap_err();
     assert!(e.to_string().contains("too few frames"), "{e}");
 }
+
+#[test]
+fn a_path_that_fits_worse_than_its_ceiling_stops_there() {
+    // `fit_path`'s ceiling (a candidate far worse than the baseline at as many segments ends
+    // its path): with a ceiling of zero the path stops after its first stage, and what it
+    // returns is that stage's model run over the whole span from its first state, without
+    // uncertainties; with none it walks down to one segment.
+    use ringlab::analysis::diagnose::whole::{fit_path, no_ceiling, with_effect};
+    use ringlab::analysis::fit::{FitOptions, fit};
+    let (rec, _) = concealed_recording(EffectKind::None, SEED).expect("a concealed recording");
+    let cancel = AtomicBool::new(false);
+    let base = fit(&rec, &FitOptions::default(), &|_| {}, &cancel).expect("a fit");
+    let ms = base.shooting(&rec.frames);
+    let sh = with_effect(&ms, EffectKind::None);
+    let g = sh.spec.to_internal(&sh.spec.initial_values());
+    let span = ms.segments[0].start..ms.segments[ms.segments.len() - 1].end;
+    let (stopped, levels) = fit_path(&sh, g.clone(), &base.segment_states, &|_| 0.0, &mut |_, _| {}, &cancel).expect("a path");
+    assert_eq!(levels.len(), 1, "stopped after the first stage");
+    assert_eq!(stopped.span, span);
+    assert!(stopped.cost.is_finite() && stopped.cost > levels[0].cost, "one run over the whole span fits worse than the segments");
+    assert!(stopped.c_sigma.iter().all(|s| s.is_infinite()));
+    let (whole, all) = fit_path(&sh, g, &base.segment_states, &no_ceiling, &mut |_, _| {}, &cancel).expect("a path");
+    assert_eq!(all.last().map(|l| l.segments.len()), Some(1));
+    assert_eq!(whole.span, span);
+    assert!(whole.rms_px() < 0.6 && whole.cost < stopped.cost, "{} px", whole.rms_px());
+    assert!(whole.c_sigma.iter().all(|s| s.is_finite()));
+}

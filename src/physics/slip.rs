@@ -57,13 +57,16 @@ pub const VY: usize = 9;
 /// near a reference direction instead of following the slip (see
 /// [`SlidingModel::friction_direction`]). Coulomb's direction `v_s/|v_s|` turns at a rate
 /// `~ mu F_N / |v_s|` as the slip speed falls, a stiffness that an explicit integrator pays for
-/// with steps while the slip is small (at its onset it grows from zero). Real contacts creep
-/// below some slip speed; 3e-5 (0.014 mm/s for the paper's steel ring) is below any creep
-/// scale: the paper ring's runs for mu from 0.1 to 1 end at the same times (to 0.001) and
-/// places (A to 0.01 mean radii) as with 1e-6 or 1e-4, with 1.5 to 2 times fewer steps than
-/// 1e-6 (1e-10 needed up to 20 times more). It also gives the direction at the onset of
-/// sliding, where `v_s = 0`.
-pub const SLIP_DIRECTION_BLEND: f64 = 3e-5;
+/// with steps while the slip is small (at its onset it grows from zero); below `eps` the rate
+/// is `~ mu F_N / eps`. Real contacts creep below some slip speed: 3e-4 is 0.14 mm/s for the
+/// paper's steel ring, under a thousandth of its rolling speed. Against 3e-5: the paper ring's
+/// runs for mu 0.1, 0.3, 0.6, 1 put A at the same places to 3e-4 mean radii (6 um) all the
+/// way; a ring that slides a little at every cusp of a long retrograde spiral (the diagnosis's
+/// fits to slipping recordings: hundreds of slides below 1e-4) moves by 0.0017 radii (0.12 px
+/// at the paper's scale, under its pixel noise) and takes 16,000 to 26,000 steps instead of
+/// 34,000 to 43,000 (1e-3: 0.0063 radii, 0.4 px). It also gives the direction at the onset
+/// of sliding, where `v_s = 0`.
+pub const SLIP_DIRECTION_BLEND: f64 = 3e-4;
 
 /// Slip speeds, in units of the creep speed, above which the reference direction no longer
 /// enters the friction direction (`exp(-40) = 4e-18`).

@@ -110,12 +110,19 @@ pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
     costs.iter().sum()
 }
 
-/// One stage of a path: its segments, globals and segment states after its fit.
+/// One stage of a path: its segments, globals and segment states after its fit, and its
+/// misfit (sum of squares) there.
 #[derive(Clone, Debug)]
 pub struct Level {
     pub segments: Vec<Range<usize>>,
     pub global: Vec<f64>,
     pub states: Vec<StateVec>,
+    pub cost: f64,
+}
+
+/// No ceiling on a path's stages (see [`fit_path`]).
+pub fn no_ceiling(_segments: usize) -> f64 {
+    f64::INFINITY
 }
 
 /// Fits the whole run with `sh`'s globals free from `global` (see [`with_effect`]), the
@@ -129,14 +136,19 @@ pub fn fit_whole(
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
-    fit_path(sh, global, states, on_iteration, cancel).map(|(w, _)| w)
+    fit_path(sh, global, states, &no_ceiling, on_iteration, cancel).map(|(w, _)| w)
 }
 
-/// [`fit_whole`], and the fitted stages of its path (for other paths to start from).
+/// [`fit_whole`], and the fitted stages of its path (for other paths to start from). A stage
+/// with `n` segments that ends with a misfit above `ceiling(n)` ends the path there: the fit
+/// returned is that stage's globals run over the whole span from its first segment's state,
+/// without uncertainties (a candidate that fits far worse than the baseline at the same
+/// segments has left the baseline's valley, and its later stages only cost time).
 pub fn fit_path(
     sh: &Shooting,
     global: Vec<f64>,
     states: &[StateVec],
+    ceiling: &dyn Fn(usize) -> f64,
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
@@ -162,7 +174,7 @@ pub fn fit_path(
             let variance = cost / count.saturating_sub(params).max(1) as f64;
             if start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance {
                 on_iteration(segments, start);
-                levels.push(Level { segments: sh.segments.clone(), global: global.clone(), states: as_states(&locals) });
+                levels.push(Level { segments: sh.segments.clone(), global: global.clone(), states: as_states(&locals), cost: start });
                 previous = Some((start, count, global.len() + 8 * segments));
                 sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
                 locals = locals.iter().step_by(2).cloned().collect();
@@ -172,13 +184,20 @@ pub fn fit_path(
         let opts = LmOptions {
             max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
             rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
+            covariance: last,
             ..LmOptions::default()
         };
         let sol = lm::solve(&sh, global, locals, &opts, &mut |_, cost| on_iteration(segments, cost), cancel)?;
         iterations += sol.iterations;
-        levels.push(Level { segments: sh.segments.clone(), global: sol.global.clone(), states: as_states(&sol.local) });
+        levels.push(Level { segments: sh.segments.clone(), global: sol.global.clone(), states: as_states(&sol.local), cost: sol.cost });
         if last {
             break sol;
+        }
+        if sol.cost > ceiling(segments) {
+            sh.segments = vec![sh.segments[0].start..sh.segments[segments - 1].end];
+            let start: Vec<f64> = sol.local.first().cloned().ok_or(LmError::BadStart)?;
+            let cost = segment_cost(&sh, &sol.global, &as_states(std::slice::from_ref(&start)));
+            break lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol };
         }
         previous = Some((sol.cost, sol.residual_count, sol.global.len() + 8 * segments));
         sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();

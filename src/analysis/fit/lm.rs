@@ -41,11 +41,15 @@ pub struct LmOptions {
     /// Stop when an accepted step lowers the cost by less than this fraction.
     pub rel_tol: f64,
     pub lambda0: f64,
+    /// Whether to linearize once more at the solution for the globals' covariance
+    /// ([`LmSolution::global_cov_unscaled`]). A fit that only leads to the next one (a stage
+    /// of a path) goes without: that last Jacobian costs as much as an iteration.
+    pub covariance: bool,
 }
 
 impl Default for LmOptions {
     fn default() -> Self {
-        LmOptions { max_iterations: 50, rel_tol: 1e-6, lambda0: 1e-3 }
+        LmOptions { max_iterations: 50, rel_tol: 1e-6, lambda0: 1e-3, covariance: true }
     }
 }
 
@@ -67,7 +71,8 @@ pub struct LmSolution {
     pub residual_count: usize,
     pub iterations: usize,
     /// `(J^T J)^-1` restricted to the globals (the inverse Schur complement), unscaled:
-    /// multiply by the residual variance for the covariance.
+    /// multiply by the residual variance for the covariance. None unless asked for
+    /// ([`LmOptions::covariance`]).
     pub global_cov_unscaled: Option<DMatrix<f64>>,
 }
 
@@ -269,8 +274,10 @@ pub fn solve(
             }
         }
     }
-    // The covariance at the solution, undamped.
-    if let Some(lin) = linearize(p, &g, &b, res, cost)
+    // The covariance at the solution, undamped (the last damped one where that fails).
+    if !opts.covariance {
+        cov = None;
+    } else if let Some(lin) = linearize(p, &g, &b, res, cost)
         && let Some(step) = step(&lin, ng, 0.0)
     {
         cov = Some(step.schur_inverse);
@@ -361,6 +368,20 @@ mod tests {
         for (b, (a, c)) in sol.local.iter().zip(truth) {
             assert!((b[0] - a).abs() < 0.05 && (b[1] - c).abs() < 0.05, "{b:?} vs {a}, {c}");
         }
+    }
+
+    #[test]
+    fn the_covariance_only_when_asked_for() {
+        let cancel = AtomicBool::new(false);
+        let at = |covariance: bool| {
+            let opts = LmOptions { max_iterations: 200, rel_tol: 1e-14, covariance, ..LmOptions::default() };
+            solve(&Rosenbrock, vec![-1.2, 1.0], vec![vec![]], &opts, &mut |_, _| {}, &cancel).unwrap()
+        };
+        let (with, without) = (at(true), at(false));
+        assert!(with.global_cov_unscaled.is_some_and(|c| c.nrows() == 2));
+        assert!(without.global_cov_unscaled.is_none());
+        assert_eq!(with.global, without.global, "the same solution either way");
+        assert!(without.global_sigma(0, 2, &[1.0, 1.0]).is_infinite());
     }
 
     #[test]
