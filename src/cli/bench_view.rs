@@ -18,7 +18,7 @@ use ringlab::render::{Gpu, OrbitCamera, SceneRenderer, UiRenderer};
 use ringlab::sim::{SimHandle, Track};
 use ringlab::ui::controls::Change;
 use ringlab::ui::palette::BODY_LINEAR;
-use ringlab::ui::{Mode, RinglabApp, Settings, scene};
+use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, on_software_adapter, scene};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
@@ -41,6 +41,26 @@ pub struct BenchViewArgs {
     /// How long the window runs (window measurement), seconds
     #[arg(long, default_value_t = 60.0)]
     pub seconds: f64,
+    /// The 3D view's detail in the window measurement (as the window's "3D detail" setting)
+    #[arg(long, value_enum, default_value_t = DetailArg::Auto)]
+    pub detail: DetailArg,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DetailArg {
+    Auto,
+    Full,
+    Fast,
+}
+
+impl DetailArg {
+    fn detail(self) -> Detail3d {
+        match self {
+            DetailArg::Auto => Detail3d::Auto,
+            DetailArg::Full => Detail3d::Full,
+            DetailArg::Fast => Detail3d::Fast,
+        }
+    }
 }
 
 fn stats(mut v: Vec<f64>) -> Stat {
@@ -67,7 +87,7 @@ pub fn run(args: &BenchViewArgs) -> Result<()> {
         What::Offscreen => offscreen(args.frames),
         What::AppOffscreen => app_offscreen(args.frames),
         What::Stream => stream(),
-        What::Window => window(args.seconds),
+        What::Window => window(args.seconds, args.detail.detail()),
     }
 }
 
@@ -248,12 +268,15 @@ struct WindowBench {
     done: bool,
     /// CPU seconds and frames counted from the end of the warm-up second.
     cpu_start: Option<(f64, usize)>,
+    /// Whether the adapter is a software rasteriser (seen on the first frame).
+    software: Option<bool>,
 }
 
 impl eframe::App for WindowBench {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let now = Instant::now();
         let elapsed = now.duration_since(self.started).as_secs_f64();
+        self.software.get_or_insert_with(|| on_software_adapter(ui.ctx()));
         // Skip the first second (start-up, first pipelines).
         if let Some(prev) = self.last_frame.filter(|_| elapsed > 1.0) {
             self.intervals.push(now.duration_since(prev).as_secs_f64() * 1e3);
@@ -297,9 +320,13 @@ impl WindowBench {
             (Some((c0, n0)), Some(c1)) if self.intervals.len() > n0 => Some((c1 - c0) * 1e3 / (self.intervals.len() - n0) as f64),
             _ => None,
         };
+        let software = self.software.unwrap_or(false);
+        let detail = self.app.settings.detail_3d;
         let report = serde_json::json!({
             "cpu_ms_per_frame": cpu_ms_per_frame,
             "what": "the window (1480x920) playing the paper ring at 1x, restarting every 2 s",
+            "software_adapter": software,
+            "detail_3d": format!("{}: the 3D view drawn at {} of its width and height", detail.describe(), detail.scale(software)),
             "seconds": self.seconds,
             "frame_interval": stats(self.intervals.clone()),
             "ui_build_cpu": stats(self.ui_ms.clone()),
@@ -313,7 +340,7 @@ impl WindowBench {
     }
 }
 
-fn window(seconds: f64) -> Result<()> {
+fn window(seconds: f64, detail: Detail3d) -> Result<()> {
     if !(seconds > 0.0) {
         bail!("--seconds must be positive");
     }
@@ -330,7 +357,7 @@ fn window(seconds: f64) -> Result<()> {
                 ringlab::render::callback::install(rs);
                 ringlab::ui::adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
             }
-            let settings = Settings { speed: 1.0, ..Settings::default() };
+            let settings = Settings { speed: 1.0, detail_3d: detail, ..Settings::default() };
             let now = Instant::now();
             Ok(Box::new(WindowBench {
                 app: RinglabApp::new(settings, Mode::Live),
@@ -346,6 +373,7 @@ fn window(seconds: f64) -> Result<()> {
                 next_rss: 0.0,
                 done: false,
                 cpu_start: None,
+                software: None,
             }))
         }),
     )

@@ -10,7 +10,7 @@ use ringlab::ui::palette::BODY_LINEAR;
 use ringlab::sim::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::recording_panel::RecordingAction;
-use ringlab::ui::{Mode, RinglabApp, Settings, SideTab, scene, trace_panel};
+use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, SideTab, scene, trace_panel};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -122,7 +122,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             })?
         }
         View::App => {
-            let mut settings = Settings { case: file.clone(), preset: file.name.clone(), show_contact: !args.no_contact, show_why: args.why, ..Settings::default() };
+            // A picture: the 3D view at every pixel, whatever the adapter.
+            let mut settings = Settings {
+                case: file.clone(),
+                preset: file.name.clone(),
+                show_contact: !args.no_contact,
+                show_why: args.why,
+                detail_3d: Detail3d::Full,
+                ..Settings::default()
+            };
             if let Some((name, f, _)) = &second {
                 settings.compare = true;
                 settings.compare_preset = name.clone();

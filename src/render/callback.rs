@@ -13,6 +13,9 @@ pub struct SceneCallback {
     pub frame: SceneFrame,
     /// The view's rectangle in points.
     pub rect: egui::Rect,
+    /// The share of the rectangle's pixels (width and height) the scene is drawn at; the copy
+    /// into the rectangle scales it up (1: pixel for pixel).
+    pub scale: f32,
 }
 
 /// Puts the scene renderer where the callback finds it; call once with the window's (or the
@@ -22,9 +25,11 @@ pub fn install(render_state: &egui_wgpu::RenderState) {
     render_state.renderer.write().callback_resources.insert(renderer);
 }
 
-/// The paint callback for view `slot` showing `frame` in `rect`.
-pub fn paint_callback(slot: usize, rect: egui::Rect, frame: SceneFrame) -> egui::PaintCallback {
-    egui_wgpu::Callback::new_paint_callback(rect, SceneCallback { slot, frame, rect })
+/// The paint callback for view `slot` showing `frame` in `rect`, drawn at `scale` of its
+/// pixels (clamped to 0.25..1).
+pub fn paint_callback(slot: usize, rect: egui::Rect, scale: f32, frame: SceneFrame) -> egui::PaintCallback {
+    let scale = if scale.is_finite() { scale.clamp(0.25, 1.0) } else { 1.0 };
+    egui_wgpu::Callback::new_paint_callback(rect, SceneCallback { slot, frame, rect, scale })
 }
 
 impl CallbackTrait for SceneCallback {
@@ -37,7 +42,7 @@ impl CallbackTrait for SceneCallback {
         resources: &mut CallbackResources,
     ) -> Vec<wgpu::CommandBuffer> {
         if let Some(r) = resources.get_mut::<SceneRenderer>() {
-            let ppp = screen.pixels_per_point;
+            let ppp = screen.pixels_per_point * self.scale;
             let size = [
                 (self.rect.width() * ppp).round().max(1.0) as u32,
                 (self.rect.height() * ppp).round().max(1.0) as u32,

@@ -19,7 +19,7 @@ pub mod teach;
 pub mod trace_panel;
 pub mod view3d;
 
-pub use settings::{SETTINGS_KEY, Settings};
+pub use settings::{Detail3d, FAST_3D_SCALE, SETTINGS_KEY, Settings};
 
 use crate::config::{Case, load_preset};
 use crate::render::OrbitCamera;
@@ -442,9 +442,12 @@ impl eframe::App for RinglabApp {
 
 /// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
 /// anti-alias egui's lines and shapes roughly double its triangles, and every triangle is
-/// drawn on the CPU, so they are left out there.
+/// drawn on the CPU, so they are left out there, and so are rounded corners (fans of slivers).
+/// Remembers which it was for the 3D view's [`Detail3d::Auto`] ([`on_software_adapter`]).
 pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
-    if adapter.device_type == eframe::wgpu::DeviceType::Cpu {
+    let software = adapter.device_type == eframe::wgpu::DeviceType::Cpu;
+    ctx.data_mut(|d| d.insert_temp(software_adapter_id(), software));
+    if software {
         ctx.tessellation_options_mut(|t| t.feathering = false);
         ctx.all_styles_mut(|s| {
             let v = &mut s.visuals;
@@ -455,6 +458,15 @@ pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo
             v.menu_corner_radius = egui::CornerRadius::ZERO;
         });
     }
+}
+
+fn software_adapter_id() -> egui::Id {
+    egui::Id::unique("ringlab-software-adapter")
+}
+
+/// Whether [`adapt_to_adapter`] found a software rasteriser.
+pub fn on_software_adapter(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp::<bool>(software_adapter_id())).unwrap_or(false)
 }
 
 /// Opens the window (`ringlab` with no arguments).

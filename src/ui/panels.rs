@@ -4,7 +4,7 @@ use super::controls::{self, UnitLabels};
 use super::palette::{BODY_LINEAR, DATA_COLOR};
 use super::recording_panel::{self, RecordingAction};
 use super::recording_view::DataView;
-use super::{RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
+use super::{Detail3d, RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
 use crate::config::load_preset;
 use crate::render::OrbitCamera;
 use crate::sim::{DiagnosedModel, Track};
@@ -123,6 +123,7 @@ impl RinglabApp {
         ui.checkbox(&mut self.settings.follow, "camera follows the ring");
         ui.checkbox(&mut self.settings.show_contact, "show the contact point's path");
         ui.checkbox(&mut self.settings.show_why, "show why it turns back");
+        detail_3d_ui(ui, &mut self.settings.detail_3d);
         if let Some(e) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(190, 20, 20), e);
         }
@@ -197,7 +198,8 @@ impl RinglabApp {
         let (follow, contact) = (self.settings.follow, self.settings.show_contact);
         let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
         let data = self.data_view();
-        let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), |i, cam| {
+        let scale = self.settings.detail_3d.scale(super::on_software_adapter(ui.ctx()));
+        let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), scale, |i, cam| {
             let mut frame = scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2]);
             if let Some(d) = data.as_ref().filter(|_| i == 0) {
                 scene::add_recording(&mut frame, &d.path, d.ring.as_ref().map(|(b, p)| (b, *p)));
@@ -218,4 +220,18 @@ impl RinglabApp {
             ui.ctx().request_repaint();
         }
     }
+}
+
+/// The 3D view's resolution (see [`Detail3d`]).
+fn detail_3d_ui(ui: &mut egui::Ui, detail: &mut Detail3d) {
+    ui.horizontal(|ui| {
+        ui.label("3D detail");
+        egui::ComboBox::from_id_salt("detail-3d").selected_text(detail.describe()).show_ui(ui, |ui| {
+            for d in Detail3d::ALL {
+                ui.selectable_value(detail, d, d.describe());
+            }
+        });
+    })
+    .response
+    .on_hover_text("fast draws the 3D view at 0.7 of its width and height and scales it up: the frame rate on a computer without a GPU");
 }

@@ -25,6 +25,44 @@ pub struct Settings {
     pub show_why: bool,
     /// A change of drag or friction continues from the current state instead of restarting.
     pub continue_on_change: bool,
+    /// How many pixels the 3D view draws.
+    pub detail_3d: Detail3d,
+}
+
+/// The 3D view's resolution: every pixel of the view, or fewer (scaled up when shown) where
+/// every pixel costs CPU time.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Detail3d {
+    /// Full on a GPU, fast on a software rasteriser (lavapipe).
+    #[default]
+    Auto,
+    Full,
+    Fast,
+}
+
+/// The share of the view's width and height that [`Detail3d::Fast`] draws (half the pixels).
+pub const FAST_3D_SCALE: f32 = 0.7;
+
+impl Detail3d {
+    pub const ALL: [Detail3d; 3] = [Detail3d::Auto, Detail3d::Full, Detail3d::Fast];
+
+    /// The share of the view's width and height drawn, on a software rasteriser or not.
+    pub fn scale(self, software: bool) -> f32 {
+        match self {
+            Detail3d::Full => 1.0,
+            Detail3d::Fast => FAST_3D_SCALE,
+            Detail3d::Auto if software => FAST_3D_SCALE,
+            Detail3d::Auto => 1.0,
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Detail3d::Auto => "auto (fast without a GPU)",
+            Detail3d::Full => "full",
+            Detail3d::Fast => "fast (half the pixels)",
+        }
+    }
 }
 
 /// A compiled-in preset (they are part of the binary and checked by the tests).
@@ -48,7 +86,30 @@ impl Default for Settings {
             show_contact: true,
             show_why: false,
             continue_on_change: false,
+            detail_3d: Detail3d::Auto,
         }
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_3d_detail_is_fast_only_where_asked_or_without_a_gpu() {
+        assert_eq!(Detail3d::Auto.scale(false), 1.0);
+        assert_eq!(Detail3d::Auto.scale(true), FAST_3D_SCALE);
+        assert_eq!(Detail3d::Full.scale(true), 1.0);
+        assert_eq!(Detail3d::Fast.scale(false), FAST_3D_SCALE);
+        assert!(FAST_3D_SCALE * FAST_3D_SCALE < 0.55, "fast draws about half the pixels or fewer");
+    }
+
+    #[test]
+    fn settings_saved_before_the_3d_detail_existed_still_load() {
+        let mut v = serde_json::to_value(Settings::default()).expect("serialises");
+        v.as_object_mut().expect("an object").remove("detail_3d");
+        let s: Settings = serde_json::from_value(v).expect("loads");
+        assert_eq!(s.detail_3d, Detail3d::Auto);
+    }
+}

@@ -6,12 +6,14 @@ use crate::render::{OrbitCamera, SceneFrame};
 use eframe::egui::{self, Rect, Sense};
 
 /// Lays out `n` views (1 or 2) in the space given, moves `camera` by the pointer, then draws
-/// the frames `frame(i, camera)` builds. Returns the views' rectangles (for overlays).
+/// the frames `frame(i, camera)` builds, each at `scale` of its pixels' width and height.
+/// Returns the views' rectangles (for overlays).
 pub fn view3d_ui(
     ui: &mut egui::Ui,
     camera: &mut OrbitCamera,
     home: OrbitCamera,
     n: usize,
+    scale: f32,
     mut frame: impl FnMut(usize, &OrbitCamera) -> SceneFrame,
 ) -> Vec<Rect> {
     let size = ui.available_size().max(egui::vec2(40.0, 40.0));
@@ -37,7 +39,7 @@ pub fn view3d_ui(
         .map(|i| Rect::from_min_size(rect.min + egui::vec2(i as f32 * (w + gap), 0.0), egui::vec2(w, rect.height())))
         .collect();
     for (i, r) in rects.iter().enumerate() {
-        ui.painter().add(paint_callback(i, *r, frame(i, camera)));
+        ui.painter().add(paint_callback(i, *r, scale, frame(i, camera)));
     }
     rects
 }
