@@ -224,14 +224,13 @@ impl RinglabApp {
 
 /// The 3D view's resolution (see [`Detail3d`]).
 fn detail_3d_ui(ui: &mut egui::Ui, detail: &mut Detail3d) {
-    ui.horizontal(|ui| {
-        ui.label("3D detail");
-        egui::ComboBox::from_id_salt("detail-3d").selected_text(detail.describe()).show_ui(ui, |ui| {
+    egui::ComboBox::from_label("3D detail")
+        .selected_text(detail.describe())
+        .show_ui(ui, |ui| {
             for d in Detail3d::ALL {
                 ui.selectable_value(detail, d, d.describe());
             }
-        });
-    })
-    .response
-    .on_hover_text("fast draws the 3D view at 0.7 of its width and height and scales it up: the frame rate on a computer without a GPU");
+        })
+        .response
+        .on_hover_text("fast draws the 3D view at 0.7 of its width and height and scales it up: the frame rate on a computer without a GPU");
 }
