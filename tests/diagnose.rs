@@ -40,6 +40,11 @@ fn consistent(d: &Diagnosis, lens: bool) {
     let noise_ok = if lens { (NOISE_PX..1.0).contains(&d.noise_px) } else { (d.noise_px - NOISE_PX).abs() < 0.03 };
     assert!(d.noise_from_marks && noise_ok, "noise {}", d.noise_px);
     assert!(!d.explanation.is_empty());
+    // A candidate whose whole-run path stopped early says where, and claims no uncertainty.
+    for c in d.candidates.iter().filter(|c| c.stopped_at_segments.is_some()) {
+        assert!(c.stopped_at_segments.is_some_and(|n| n > 1), "{c:?}");
+        assert!(c.effect != d.left_out && c.strength.is_none_or(|s| s.1.is_infinite()), "{c:?}");
+    }
     if let Some(m) = &d.mismatch {
         let (t0, t1) = (d.residuals.t_s[0], d.residuals.t_s[n - 1]);
         assert!(m.start_s >= t0 && m.end_s <= t1 + 1.0 / d.fps + 1e-9 && m.start_s < m.end_s, "{m:?} outside {t0}..{t1}");

@@ -80,6 +80,9 @@ pub struct CandidateJson {
     pub strength: Option<f64>,
     pub strength_sigma: Option<f64>,
     pub error: Option<String>,
+    /// Where its whole-run path stopped (the segments of that stage), if it did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_at_segments: Option<usize>,
 }
 
 fn finite(x: f64) -> Option<f64> {
@@ -121,6 +124,7 @@ impl DiagnoseJson {
                     strength: c.strength.and_then(|s| finite(s.0)),
                     strength_sigma: c.strength.and_then(|s| finite(s.1)),
                     error: c.error.clone(),
+                    stopped_at_segments: c.stopped_at_segments,
                 })
                 .collect(),
             explanation: d.explanation.clone(),
@@ -220,7 +224,10 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
         let strength = c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));
         match &c.error {
             Some(e) => println!("  {:<20} failed: {e}", c.effect.name()),
-            None => println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}", c.effect.name(), c.rms_px, c.delta_score, c.seconds),
+            None => {
+                let stopped = c.stopped_at_segments.map_or(String::new(), |n| format!("  (stopped at {n} segments, 4x worse than the baseline there)"));
+                println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}{stopped}", c.effect.name(), c.rms_px, c.delta_score, c.seconds)
+            }
         }
     }
     println!();

@@ -148,7 +148,10 @@ fn candidates_ui(ui: &mut egui::Ui, r: &Diagnosis) {
                 (None, Some((v, _))) => format!("{v:.4}"),
                 (None, None) => String::new(),
             };
-            ui.label(RichText::new(s).small());
+            let label = ui.label(RichText::new(s).small());
+            if let Some(n) = c.stopped_at_segments {
+                label.on_hover_text(format!("its fit over the whole run stopped at {n} segments, where it fitted four times worse than the baseline"));
+            }
             ui.end_row();
         }
     });

@@ -48,6 +48,10 @@ pub struct Candidate {
     pub error: Option<String>,
     /// Time its fit took (s; candidates run in parallel).
     pub seconds: f64,
+    /// Its path over the whole run stopped at a stage of this many segments, where it fitted
+    /// four times worse than the baseline (its misfit is that stage's model run over the whole
+    /// span, and its strength has no uncertainty).
+    pub stopped_at_segments: Option<usize>,
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.

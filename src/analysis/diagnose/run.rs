@@ -124,6 +124,7 @@ pub fn diagnose(
             strength: None,
             error: None,
             seconds: baseline.seconds,
+            stopped_at_segments: baseline.stopped_at,
         },
         Some(&baseline),
     )];
@@ -138,6 +139,7 @@ pub fn diagnose(
                     strength: w.strength,
                     error: None,
                     seconds: w.seconds,
+                    stopped_at_segments: w.stopped_at,
                 };
                 (c, Some(w))
             }
@@ -150,6 +152,7 @@ pub fn diagnose(
                     strength: None,
                     error: Some(e.to_string()),
                     seconds: 0.0,
+                    stopped_at_segments: None,
                 };
                 (c, None)
             }

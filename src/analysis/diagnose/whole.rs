@@ -49,6 +49,9 @@ pub struct WholeFit {
     pub internal: Vec<f64>,
     /// Time this fit took (s), its path included.
     pub seconds: f64,
+    /// Where its path stopped short of one segment (the segments of that stage), because the
+    /// stage fitted worse than its ceiling ([`fit_path`]); None for a path walked to the end.
+    pub stopped_at: Option<usize>,
 }
 
 impl WholeFit {
@@ -161,6 +164,7 @@ pub fn fit_path(
     let mut levels = Vec::new();
     // The previous stage's cost, residual count and free numbers.
     let mut previous: Option<(f64, usize, usize)> = None;
+    let mut stopped_at = None;
     let sol = loop {
         let last = sh.segments.len() == 1;
         let segments = sh.segments.len();
@@ -194,6 +198,7 @@ pub fn fit_path(
             break sol;
         }
         if sol.cost > ceiling(segments) {
+            stopped_at = Some(segments);
             sh.segments = vec![sh.segments[0].start..sh.segments[segments - 1].end];
             let start: Vec<f64> = sol.local.first().cloned().ok_or(LmError::BadStart)?;
             let cost = segment_cost(&sh, &sol.global, &as_states(std::slice::from_ref(&start)));
@@ -228,6 +233,7 @@ pub fn fit_path(
         iterations,
         internal: sol.global,
         seconds: clock.elapsed().as_secs_f64(),
+        stopped_at,
     };
     Ok((fit, levels))
 }
