@@ -225,7 +225,7 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
         match &c.error {
             Some(e) => println!("  {:<20} failed: {e}", c.effect.name()),
             None => {
-                let stopped = c.stopped_at_segments.map_or(String::new(), |n| format!("  (stopped at {n} segments, 4x worse than the baseline there)"));
+                let stopped = c.stopped_note().map_or(String::new(), |n| format!("  ({n})"));
                 println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}{stopped}", c.effect.name(), c.rms_px, c.delta_score, c.seconds)
             }
         }

@@ -223,7 +223,7 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
                 let _ = writeln!(m, "| {} | {} | failed: {e} | | |", i + 1, c.effect);
             }
             None => {
-                let stopped = c.stopped_at_segments.map_or(String::new(), |n| format!(" (its fit stopped at {n} segments, 4x worse than the baseline there)"));
+                let stopped = c.stopped_note().map_or(String::new(), |n| format!(" ({n})"));
                 let _ = writeln!(m, "| {} | {} | {:.3}{stopped} | {:+.1} | {strength} |", i + 1, c.effect, c.rms_px, c.delta_score);
             }
         }

@@ -149,8 +149,8 @@ fn candidates_ui(ui: &mut egui::Ui, r: &Diagnosis) {
                 (None, None) => String::new(),
             };
             let label = ui.label(RichText::new(s).small());
-            if let Some(n) = c.stopped_at_segments {
-                label.on_hover_text(format!("its fit over the whole run stopped at {n} segments, where it fitted four times worse than the baseline"));
+            if let Some(note) = c.stopped_note() {
+                label.on_hover_text(note);
             }
             ui.end_row();
         }

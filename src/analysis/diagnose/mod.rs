@@ -23,10 +23,12 @@
 //! (a small change in drag shifts every later cycloid), so no fit starts there. The baseline
 //! walks from its multiple-shooting fit down a path: segments merged pairwise and refitted
 //! until one is left ([`whole`]). Each candidate walks the same path from the same segments,
-//! its strength starting from the best of a scan over its realistic range ([`candidates`]). A candidate that at zero strength is the baseline can never end worse, so
-//! one whose stage fits four times worse than the baseline's with as many segments has left
-//! the valley and stops there, and one that ends worse is refitted from the baseline's solution; and the baseline is refitted from
-//! the best candidate's drag and start, so that "before" is the baseline at its best.
+//! its strength starting from the best of a scan over its realistic range ([`candidates`]). A
+//! candidate that at zero strength is the baseline can never end worse, so one whose stage
+//! fits four times worse than the baseline's with as many segments has left the valley and
+//! stops there, and one that ends worse is refitted from the baseline's solution; and the
+//! baseline is refitted from the best candidate's drag and start, so that "before" is the
+//! baseline at its best.
 //!
 //! **The criterion: BIC** `N ln(RSS/N) + k ln N`, `N` the mark coordinates, `k` the free
 //! numbers (3 drag + 8 start, +1 for an effect). With the right model the residuals are the

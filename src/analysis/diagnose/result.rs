@@ -1,6 +1,7 @@
 //! What a diagnosis found: one plain struct with everything the report and a window show
 //! (plain data, cloneable, no references into the recording).
 
+use super::candidates::STAGE_CEILING;
 use crate::physics::effects::EffectKind;
 use crate::physics::{Initial, Model, Units};
 use crate::recording::Camera;
@@ -49,9 +50,17 @@ pub struct Candidate {
     /// Time its fit took (s; candidates run in parallel).
     pub seconds: f64,
     /// Its path over the whole run stopped at a stage of this many segments, where it fitted
-    /// four times worse than the baseline (its misfit is that stage's model run over the whole
-    /// span, and its strength has no uncertainty).
+    /// [`STAGE_CEILING`] times worse than the baseline (its misfit is that stage's model run
+    /// over the whole span, and its strength has no uncertainty).
     pub stopped_at_segments: Option<usize>,
+}
+
+impl Candidate {
+    /// Where its fit stopped and why, in words, if it stopped early.
+    pub fn stopped_note(&self) -> Option<String> {
+        self.stopped_at_segments
+            .map(|n| format!("its fit over the whole run stopped at {n} segments, {STAGE_CEILING}x worse than the baseline there"))
+    }
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
