@@ -158,3 +158,25 @@ fn trace_panel_paper_ring() {
     harness.run_steps(2);
     harness.snapshot_options("trace_panel_paper_ring", &options(w, h));
 }
+
+/// On lavapipe the app's egui shapes go to ringlab's lean painter (`shaders/ui.wgsl`) instead
+/// of egui-wgpu's shader; both must draw the same picture.
+#[test]
+fn lean_painter_draws_what_egui_wgpu_draws() {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe)");
+    let mut ui = ringlab::render::UiRenderer::new(&gpu);
+    let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: seconds(40.0) });
+    let size = [1000, 700];
+    ringlab::ui::lean_paint::set_enabled(&ui.ctx, false);
+    let by_egui = ui.render(&gpu, size, 3, |u| app.ui_root(u)).expect("renders");
+    assert!(ringlab::ui::lean_paint::last_batch(&ui.ctx).is_none(), "egui-wgpu drew everything");
+    ringlab::ui::lean_paint::set_enabled(&ui.ctx, true);
+    let by_lean = ui.render(&gpu, size, 3, |u| app.ui_root(u)).expect("renders");
+    let batch = ringlab::ui::lean_paint::last_batch(&ui.ctx).expect("the lean painter drew");
+    assert!(batch.primitives().count() > 5, "the panels, plots and text went to the lean painter");
+    let differing = by_egui.pixels().zip(by_lean.pixels()).filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 2)).count();
+    assert!(differing <= 20, "{differing} pixels differ by more than 2 levels");
+    // And it is not a blank picture that would agree with another blank one.
+    let distinct: std::collections::HashSet<[u8; 4]> = by_lean.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 200, "{} colours", distinct.len());
+}

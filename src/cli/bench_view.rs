@@ -44,6 +44,10 @@ pub struct BenchViewArgs {
     /// The 3D view's detail in the window measurement (as the window's "3D detail" setting)
     #[arg(long, value_enum, default_value_t = DetailArg::Auto)]
     pub detail: DetailArg,
+    /// Window measurement: draw egui's shapes with egui-wgpu's own shader even on a software
+    /// rasteriser (the window hands them to ringlab's lean painter there), for comparison
+    #[arg(long)]
+    pub egui_painter: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -87,7 +91,7 @@ pub fn run(args: &BenchViewArgs) -> Result<()> {
         What::Offscreen => offscreen(args.frames),
         What::AppOffscreen => app_offscreen(args.frames),
         What::Stream => stream(),
-        What::Window => window(args.seconds, args.detail.detail()),
+        What::Window => window(args.seconds, args.detail.detail(), args.egui_painter),
     }
 }
 
@@ -270,6 +274,8 @@ struct WindowBench {
     cpu_start: Option<(f64, usize)>,
     /// Whether the adapter is a software rasteriser (seen on the first frame).
     software: Option<bool>,
+    /// Whether egui's shapes went to the lean painter.
+    lean: bool,
 }
 
 impl eframe::App for WindowBench {
@@ -277,6 +283,7 @@ impl eframe::App for WindowBench {
         let now = Instant::now();
         let elapsed = now.duration_since(self.started).as_secs_f64();
         self.software.get_or_insert_with(|| on_software_adapter(ui.ctx()));
+        self.lean = ringlab::ui::lean_paint::is_enabled(ui.ctx());
         // Skip the first second (start-up, first pipelines).
         if let Some(prev) = self.last_frame.filter(|_| elapsed > 1.0) {
             self.intervals.push(now.duration_since(prev).as_secs_f64() * 1e3);
@@ -326,6 +333,7 @@ impl WindowBench {
             "cpu_ms_per_frame": cpu_ms_per_frame,
             "what": "the window (1480x920) playing the paper ring at 1x, restarting every 2 s",
             "software_adapter": software,
+            "egui_shapes_drawn_by": if self.lean { "ringlab's lean painter (shaders/ui.wgsl)" } else { "egui-wgpu" },
             "detail_3d": format!("{}: the 3D view drawn at {} of its width and height", detail.describe(), detail.scale(software)),
             "seconds": self.seconds,
             "frame_interval": stats(self.intervals.clone()),
@@ -340,7 +348,7 @@ impl WindowBench {
     }
 }
 
-fn window(seconds: f64, detail: Detail3d) -> Result<()> {
+fn window(seconds: f64, detail: Detail3d, egui_painter: bool) -> Result<()> {
     if !(seconds > 0.0) {
         bail!("--seconds must be positive");
     }
@@ -356,6 +364,9 @@ fn window(seconds: f64, detail: Detail3d) -> Result<()> {
             if let Some(rs) = &cc.wgpu_render_state {
                 ringlab::render::callback::install(rs);
                 ringlab::ui::adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
+                if egui_painter {
+                    ringlab::ui::lean_paint::set_enabled(&cc.egui_ctx, false);
+                }
             }
             let settings = Settings { speed: 1.0, detail_3d: detail, ..Settings::default() };
             let now = Instant::now();
@@ -374,6 +385,7 @@ fn window(seconds: f64, detail: Detail3d) -> Result<()> {
                 done: false,
                 cpu_start: None,
                 software: None,
+                lean: false,
             }))
         }),
     )

@@ -18,11 +18,15 @@ pub struct SceneCallback {
     pub scale: f32,
 }
 
-/// Puts the scene renderer where the callback finds it; call once with the window's (or the
-/// test harness's) render state.
+/// Puts the scene renderer, and the painter of egui's shapes used on software rasterisers
+/// ([`super::ui_painter`]), where the callbacks find them; call once with the window's (or
+/// the test harness's) render state.
 pub fn install(render_state: &egui_wgpu::RenderState) {
     let renderer = SceneRenderer::new(&render_state.device, Some(render_state.target_format));
-    render_state.renderer.write().callback_resources.insert(renderer);
+    let painter = super::ui_painter::UiPainter::new(&render_state.device, render_state.target_format);
+    let mut egui_renderer = render_state.renderer.write();
+    egui_renderer.callback_resources.insert(renderer);
+    egui_renderer.callback_resources.insert(painter);
 }
 
 /// The paint callback for view `slot` showing `frame` in `rect`, drawn at `scale` of its

@@ -135,6 +135,7 @@ impl UiRenderer {
     pub fn new(gpu: &Gpu) -> UiRenderer {
         let mut renderer = egui_wgpu::Renderer::new(&gpu.device, COLOR_FORMAT, egui_wgpu::RendererOptions { dithering: false, ..Default::default() });
         renderer.callback_resources.insert(SceneRenderer::new(&gpu.device, Some(COLOR_FORMAT)));
+        renderer.callback_resources.insert(super::ui_painter::UiPainter::new(&gpu.device, COLOR_FORMAT));
         let ctx = egui::Context::default();
         ctx.all_styles_mut(|s| {
             s.animation_time = 0.0;
@@ -170,7 +171,10 @@ impl UiRenderer {
         let Some(output) = output else { return Err(RenderError::Readback("no frame".into())) };
         let jobs = self.ctx.tessellate(output.shapes, output.pixels_per_point);
         if self.count_drawing {
-            self.last_stats = super::ui_stats::UiStats::of(&jobs);
+            // What egui-wgpu draws, and what the lean painter draws for it (on lavapipe).
+            let batch = crate::ui::lean_paint::last_batch(&self.ctx);
+            let ours: Vec<_> = batch.iter().flat_map(|b| b.primitives().cloned()).collect();
+            self.last_stats = super::ui_stats::UiStats::of(&jobs).plus(&super::ui_stats::UiStats::of(&ours));
         }
         let desc = egui_wgpu::ScreenDescriptor { size_in_pixels: size, pixels_per_point: output.pixels_per_point };
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {

@@ -11,6 +11,7 @@ mod pipelines;
 pub mod pose;
 mod renderer;
 pub mod scene;
+pub mod ui_painter;
 pub mod ui_stats;
 
 pub use camera::{CameraView, OrbitCamera};

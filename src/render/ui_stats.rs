@@ -47,6 +47,18 @@ impl UiStats {
         }
         s
     }
+
+    /// Both counts together.
+    pub fn plus(self, o: &UiStats) -> UiStats {
+        UiStats {
+            meshes: self.meshes + o.meshes,
+            triangles: self.triangles + o.triangles,
+            paint_callbacks: self.paint_callbacks + o.paint_callbacks,
+            pixels: self.pixels + o.pixels,
+            blocks_4x4: self.blocks_4x4 + o.blocks_4x4,
+            text_blocks_4x4: self.text_blocks_4x4 + o.text_blocks_4x4,
+        }
+    }
 }
 
 /// Twice the signed area of the triangle (a, b, c).

@@ -7,6 +7,7 @@
 
 pub mod controls;
 pub mod diagnose_panel;
+pub mod lean_paint;
 pub mod palette;
 mod app_recording;
 mod panels;
@@ -409,6 +410,7 @@ impl RinglabApp {
         egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
 
         recording_panel::drop_hint_ui(ui.ctx());
+        lean_paint::hand_over(ui.ctx());
 
         if self.is_animating() {
             ui.ctx().request_repaint();
@@ -443,10 +445,13 @@ impl eframe::App for RinglabApp {
 /// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
 /// anti-alias egui's lines and shapes roughly double its triangles, and every triangle is
 /// drawn on the CPU, so they are left out there, and so are rounded corners (fans of slivers).
-/// Remembers which it was for the 3D view's [`Detail3d::Auto`] ([`on_software_adapter`]).
+/// Remembers which it was for the 3D view's [`Detail3d::Auto`] ([`on_software_adapter`]),
+/// and there hands egui's shapes to our own lean painter ([`lean_paint`]), which
+/// [`crate::render::callback::install`] must have put into the renderer.
 pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
     let software = adapter.device_type == eframe::wgpu::DeviceType::Cpu;
     ctx.data_mut(|d| d.insert_temp(software_adapter_id(), software));
+    lean_paint::set_enabled(ctx, software);
     if software {
         ctx.tessellation_options_mut(|t| t.feathering = false);
         ctx.all_styles_mut(|s| {
