@@ -121,3 +121,62 @@ pub fn hand_over(ctx: &egui::Context) {
     });
     ctx.data_mut(|d| d.insert_temp(last_batch_id(), batch));
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use eframe::egui::{Color32, PaintCallback, Rect, pos2, vec2};
+
+    /// A stand-in for the 3D view's callback (not ours to draw).
+    fn view3d() -> Shape {
+        Shape::Callback(PaintCallback { rect: Rect::from_min_size(pos2(10.0, 10.0), vec2(50.0, 50.0)), callback: Arc::new(7u32) })
+    }
+
+    /// What each shape of a frame's output is, in drawing order: "lean" (our callback), "3d"
+    /// (the stand-in) or "egui" (left to egui-wgpu); empty slots left out.
+    fn callbacks(shapes: &[ClippedShape]) -> Vec<&'static str> {
+        shapes
+            .iter()
+            .filter_map(|c| match &c.shape {
+                Shape::Callback(cb) if cb.callback.downcast_ref::<u32>().is_some() => Some("3d"),
+                Shape::Callback(_) => Some("lean"),
+                Shape::Noop => None,
+                _ => Some("egui"),
+            })
+            .collect()
+    }
+
+    fn frame(ctx: &egui::Context) -> Vec<ClippedShape> {
+        ctx.run_ui(egui::RawInput::default(), |ui| {
+            ui.label("before");
+            ui.painter().rect_filled(Rect::from_min_size(pos2(0.0, 0.0), vec2(5.0, 5.0)), 0.0, Color32::RED);
+            ui.painter().add(view3d());
+            ui.label("after");
+            hand_over(ui.ctx());
+        })
+        .shapes
+    }
+
+    #[test]
+    fn shapes_go_to_the_lean_painter_around_other_callbacks_in_their_order() {
+        let ctx = egui::Context::default();
+        // Off: egui draws everything.
+        let off = frame(&ctx);
+        assert!(callbacks(&off).iter().all(|c| *c != "lean"));
+        assert!(last_batch(&ctx).is_none());
+
+        set_enabled(&ctx, true);
+        let on = frame(&ctx);
+        assert_eq!(callbacks(&on), ["lean", "3d", "lean"]);
+        let batch = last_batch(&ctx).expect("a batch");
+        assert_eq!(batch.runs.len(), 2, "one run before the 3D view, one after");
+        assert!(batch.runs.iter().all(|r| !r.is_empty()));
+        assert!(batch.atlas.size[0] > 0 && batch.atlas.pixels.len() == batch.atlas.size[0] * batch.atlas.size[1]);
+
+        // Nothing new drawn: the same atlas, so the painter does not upload it again.
+        let first = batch.atlas.clone();
+        frame(&ctx);
+        let again = last_batch(&ctx).expect("a batch");
+        assert!(Arc::ptr_eq(&first, &again.atlas));
+    }
+}
