@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 #[test]
 fn the_sample_is_none_with_json_and_a_report() {
-    let sample = common::shared_data("sample-ring.csv");
+    let sample = common::test_data("sample-ring.csv");
     let dir: PathBuf = std::env::temp_dir().join(format!("ringlab-diagnose-{}", std::process::id()));
     let out = ringlab(&["diagnose", sample.to_str().unwrap(), "--json", "--report", dir.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -47,7 +47,7 @@ fn the_sample_is_none_with_json_and_a_report() {
 #[test]
 fn bad_files_and_flags_are_clear_errors() {
     assert_fails_with(&["diagnose", "no-such-file.csv"], &["no-such-file.csv"]);
-    let sample = common::shared_data("sample-ring.csv");
+    let sample = common::test_data("sample-ring.csv");
     let s = sample.to_str().unwrap();
     assert_fails_with(&["diagnose", s, "--candidates", "slip,wind"], &["'wind'", "reynolds_drag"]);
     assert_fails_with(&["diagnose", s, "--evidence", "-1"], &["--evidence"]);

@@ -52,7 +52,7 @@ fn synth_then_fit_recovers_the_parameters() {
 
 #[test]
 fn the_human_fit_report_names_the_start_and_misfit() {
-    let sample = common::shared_data("sample-ring.csv");
+    let sample = common::test_data("sample-ring.csv");
     let out = ringlab(&["fit", sample.to_str().unwrap(), "--threads", "2"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8_lossy(&out.stdout);
@@ -64,7 +64,7 @@ fn the_human_fit_report_names_the_start_and_misfit() {
 #[test]
 fn bad_recordings_give_their_file_and_line() {
     let dir = temp_dir("bad-rec");
-    let good = std::fs::read_to_string(common::shared_data("sample-ring.csv")).unwrap();
+    let good = std::fs::read_to_string(common::test_data("sample-ring.csv")).unwrap();
     let head: String = good.lines().take(30).map(|l| format!("{l}\n")).collect();
     let cases = [
         ("no-fps.csv", head.replace("# fps = 300.0\n", ""), "missing required header key 'fps'"),
@@ -103,7 +103,7 @@ fn bad_flags_are_named() {
     assert_fails_with(&["synth", "--c1", "-1", "--out", out], &["C1"]);
     assert_fails_with(&["synth"], &["--out"]);
     assert_fails_with(&["synth", "--out", "/nonexistent/dir/x.csv"], &["cannot create"]);
-    let sample = common::shared_data("sample-ring.csv");
+    let sample = common::test_data("sample-ring.csv");
     let s = sample.to_str().unwrap();
     assert_fails_with(&["fit", s, "--c-start", "0.1,0.2"], &["--c-start"]);
     assert_fails_with(&["fit", s, "--c-start", "0.1,-0.2,0.3"], &["positive"]);
@@ -116,4 +116,33 @@ fn bad_flags_are_named() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(slip.status.success() || err.contains("slip"), "{err}");
     std::fs::remove_file(out).ok();
+}
+
+#[test]
+fn camera_flags_film_through_a_pinhole_and_say_so_only_when_asked() {
+    let dir = temp_dir("synth-camera");
+    let (quiet, told) = (dir.join("quiet.csv"), dir.join("told.csv"));
+    let base = ["synth", "--t-end", "3", "--camera-distance-mm", "450", "--camera-tilt-deg", "-10"];
+    let run = |extra: &[&str], out: &PathBuf| {
+        let args: Vec<&str> = base.iter().copied().chain(extra.iter().copied()).chain(["--out", out.to_str().unwrap()]).collect();
+        let o = ringlab(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).to_string()
+    };
+    let note = run(&[], &quiet);
+    assert!(note.contains("camera pinhole at 450 mm, tilt -10 deg (not in the header)"), "{note}");
+    run(&["--camera-in-header"], &told);
+    let (quiet, told) = (std::fs::read_to_string(&quiet).unwrap(), std::fs::read_to_string(&told).unwrap());
+    assert!(!quiet.contains("camera_"), "{quiet}");
+    assert!(told.contains("# camera_distance_mm = 450.0\n# camera_tilt_deg = -10.0\n"));
+    // Same marks either way: only the header differs.
+    let frames = |t: &str| t.lines().skip_while(|l| l.starts_with('#')).collect::<Vec<_>>().join("\n");
+    assert_eq!(frames(&quiet), frames(&told));
+    std::fs::remove_dir_all(&dir).ok();
+    let out = "/tmp/ringlab-never-written-camera.csv";
+    assert_fails_with(&["synth", "--camera-distance-mm", "-5", "--out", out], &["camera distance"]);
+    assert_fails_with(&["synth", "--camera-distance-mm", "nan", "--out", out], &["camera distance"]);
+    assert_fails_with(&["synth", "--camera-distance-mm", "60", "--out", out], &["camera distance", "outer radius"]);
+    assert_fails_with(&["synth", "--camera-tilt-deg", "85", "--out", out], &["camera tilt"]);
+    assert!(!std::path::Path::new(out).exists());
 }

@@ -48,7 +48,7 @@ fn a_concealed_effect_is_diagnosed_in_the_window_and_its_model_adopted() {
 
     let app = h.state();
     let d = app.recording.diagnosed().expect("a diagnosis");
-    assert_eq!(d.result.left_out, EffectKind::ReynoldsDrag, "{}", d.result.explanation);
+    assert_eq!(d.result.finding.first(), EffectKind::ReynoldsDrag, "{}", d.result.explanation);
     assert!(d.result.after.rms_px < 0.5 * d.result.before.rms_px);
     let (a, b) = app.recording.mismatch_display_s().expect("a mismatch window on the clock");
     assert!(a < b, "{a} {b}");
@@ -83,7 +83,7 @@ fn a_concealed_effect_is_diagnosed_in_the_window_and_its_model_adopted() {
 #[test]
 fn the_diagnosis_runs_on_its_thread_and_can_be_cancelled() {
     let mut app = RinglabApp::new(Settings::default(), Mode::Live);
-    app.open_recording(common::shared_data("sample-ring.csv"));
+    app.open_recording(common::test_data("sample-ring.csv"));
     app.finish_recording_jobs();
     app.act_on_diagnosis(DiagnoseAction::Diagnose);
     assert!(app.recording.diagnose_progress().is_some(), "the diagnosis runs on its thread");

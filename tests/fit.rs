@@ -4,12 +4,13 @@
 
 mod common;
 
-use ringlab::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, fit};
+use ringlab::analysis::fit::shooting::{PredictedMarks, Shooting};
+use ringlab::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, fit};
 use ringlab::config::load_preset;
-use ringlab::physics::EffectKind;
-use ringlab::recording::marks::MarkOrder;
+use ringlab::physics::{EffectKind, RunOptions};
+use ringlab::recording::marks::{MarkGeometry, MarkOrder};
 use ringlab::recording::synth::{SynthOptions, synthesize};
-use ringlab::recording::{Recording, read_recording};
+use ringlab::recording::{Camera, Recording, read_recording};
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 
@@ -35,9 +36,9 @@ fn assert_recovers(r: &FitResult, c: [f64; 3], theta0: f64, phidot0: f64, what: 
 #[test]
 fn fits_the_sample_recording() {
     let truth: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(common::shared_data("sample-ring.truth.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(common::test_data("sample-ring.truth.json")).unwrap()).unwrap();
     let c: Vec<f64> = truth["C"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
-    let rec = read_recording(&common::shared_data("sample-ring.csv")).unwrap();
+    let rec = read_recording(&common::test_data("sample-ring.csv")).unwrap();
     let stages = Mutex::new(Vec::new());
     let r = fit(
         &rec,
@@ -112,7 +113,7 @@ fn fits_a_lens_distortion_as_a_free_effect() {
 
 #[test]
 fn cancelling_stops_the_fit_and_bad_input_is_an_error() {
-    let rec = read_recording(&common::shared_data("sample-ring.csv")).unwrap();
+    let rec = read_recording(&common::test_data("sample-ring.csv")).unwrap();
     let r = fit(&rec, &FitOptions::default(), &|_| {}, &AtomicBool::new(true));
     assert_eq!(r.unwrap_err(), FitError::Cancelled);
     let short = Recording { frames: rec.frames[..12].to_vec(), ..rec.clone() };
@@ -136,4 +137,44 @@ fn cancelling_stops_the_fit_and_bad_input_is_an_error() {
         f[3] = None;
     }
     assert!(fit(&blind, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)).is_err());
+}
+
+#[test]
+fn the_projection_sees_the_marks_heights_through_a_pinhole() {
+    // The fit's prediction of synthesized marks (noise 0) from the run that made them, through
+    // the camera the header describes: orthographic, and pinholes that magnify the marks by
+    // their heights (off by pixels if the heights were left out).
+    let case = load_preset("paper-ring").unwrap().build().unwrap();
+    for (distance, tilt) in [(None, 0.0), (Some(450.0), 0.0), (Some(600.0), 25.0)] {
+        let opts = SynthOptions {
+            noise_px: 0.0,
+            camera_distance_mm: distance,
+            camera_tilt_deg: tilt,
+            camera_in_header: true,
+            ..SynthOptions::default()
+        };
+        let s = synthesize(&case, &opts).unwrap();
+        let rec = &s.recording;
+        let camera = Camera::for_recording(&rec.header, &rec.frames);
+        let spec = ModelSpec { base: case.model.clone(), camera, free: Vec::new(), re_start: 1.0, strength_range: None };
+        let sh = Shooting {
+            observed: &rec.frames,
+            segments: vec![0..rec.frames.len()],
+            dt: 1.0 / opts.fps / s.time_s,
+            spec,
+            run: RunOptions::default(),
+            geometry: MarkGeometry::of_body(&case.model.body, MarkOrder::Forward),
+            length_mm: s.length_mm,
+            budget: None,
+        };
+        let predicted: PredictedMarks = s.samples.iter().map(|x| sh.project(&sh.geometry, &camera, x)).collect();
+        let worst = sh.residuals_of(0, &predicted).iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        assert!(worst < 0.0051, "{distance:?} mm, {tilt} deg: {worst} px");
+        if distance.is_some() {
+            let flat = Camera { distance_mm: None, tilt_rad: 0.0, ..camera };
+            let predicted: PredictedMarks = s.samples.iter().map(|x| sh.project(&sh.geometry, &flat, x)).collect();
+            let worst = sh.residuals_of(0, &predicted).iter().fold(0.0f64, |m, r| m.max(r.abs()));
+            assert!(worst > 5.0, "{distance:?} mm, {tilt} deg: orthographic misses by only {worst} px");
+        }
+    }
 }

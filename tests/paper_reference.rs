@@ -1,4 +1,4 @@
-//! The paper's ring against the independent reference solution (`../shared/data`).
+//! The paper's ring against the independent reference solution (`tests/data`).
 
 mod common;
 

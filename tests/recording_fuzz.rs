@@ -106,7 +106,7 @@ fn check_sound(bytes: &[u8]) {
 #[test]
 fn random_and_mutated_files_never_panic() {
     let cases: usize = std::env::var("RINGLAB_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(40_000);
-    let sample = std::fs::read(common::shared_data("sample-ring.csv")).expect("sample");
+    let sample = std::fs::read(common::test_data("sample-ring.csv")).expect("sample");
     let text = String::from_utf8_lossy(&sample);
     // The header and 30 frames: mutations then hit the header as often as the frames.
     let head: String = text.lines().take(40).map(|l| format!("{l}\n")).collect();

@@ -4,11 +4,11 @@
 mod common;
 
 use ringlab::physics::Shape;
-use ringlab::recording::{ReadErrorKind, parse_recording, read_recording};
+use ringlab::recording::{Camera, ReadErrorKind, parse_recording, read_recording, write_recording};
 use std::path::Path;
 
 fn sample_text() -> String {
-    std::fs::read_to_string(common::shared_data("sample-ring.csv")).expect("sample readable")
+    std::fs::read_to_string(common::test_data("sample-ring.csv")).expect("sample readable")
 }
 
 /// Parses `text` and returns the error's line and kind.
@@ -34,7 +34,7 @@ fn head(n: usize) -> String {
 #[test]
 fn reads_the_sample_exactly() {
     let text = sample_text();
-    let rec = read_recording(&common::shared_data("sample-ring.csv")).expect("sample reads");
+    let rec = read_recording(&common::test_data("sample-ring.csv")).expect("sample reads");
     let h = &rec.header;
     assert_eq!((h.fps, h.px_per_mm, h.shape), (300.0, 3.364764, Shape::Ring));
     assert_eq!((h.outer_radius_mm, h.width_mm, h.thickness_mm), (20.66, 18.0, Some(1.0)));
@@ -175,4 +175,53 @@ fn other_malformed_files_are_reported() {
     assert_eq!((e.line, e.kind), (Some(13), ReadErrorKind::InvalidUtf8));
     let e = read_recording(Path::new("/nonexistent/ringlab/x.csv")).unwrap_err();
     assert!(matches!(e.kind, ReadErrorKind::Io(_)) && e.to_string().contains("/nonexistent/ringlab/x.csv"));
+}
+
+#[test]
+fn camera_keys_are_read_checked_and_written() {
+    // The sample with a camera distance on line 10 and a tilt on line 11.
+    let with = |d: &str, t: &str| {
+        let camera = format!("# image_height_px = 1024\n# camera_distance_mm = {d}\n# camera_tilt_deg = {t}\n");
+        head(5).replace("# image_height_px = 1024\n", &camera)
+    };
+    let rec = parse_recording(with("450", "-12.5").as_bytes(), Path::new("t.csv")).expect("reads");
+    let h = &rec.header;
+    assert_eq!((h.camera_distance_mm, h.camera_tilt_deg), (Some(450.0), Some(-12.5)));
+    assert!(h.extra.is_empty(), "{:?}", h.extra);
+    let cam = Camera::for_recording(h, &rec.frames);
+    assert_eq!((cam.distance_mm, cam.tilt_rad), (Some(450.0), (-12.5f64).to_radians()));
+    let mut out = Vec::new();
+    write_recording(&mut out, &rec).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(text.contains("# camera_distance_mm = 450.0\n# camera_tilt_deg = -12.5\n"), "{text}");
+    assert_eq!(parse_recording(text.as_bytes(), Path::new("w.csv")).unwrap().header, rec.header);
+    // Absent (the sample): unknown, and the camera is orthographic and untilted; nothing written.
+    let rec = parse_recording(head(5).as_bytes(), Path::new("t.csv")).unwrap();
+    assert_eq!((rec.header.camera_distance_mm, rec.header.camera_tilt_deg), (None, None));
+    let cam = Camera::for_recording(&rec.header, &rec.frames);
+    assert_eq!((cam.distance_mm, cam.tilt_rad), (None, 0.0));
+    let mut out = Vec::new();
+    write_recording(&mut out, &rec).unwrap();
+    assert!(!String::from_utf8(out).unwrap().contains("camera_"));
+    // A distance must be a positive finite number, a tilt within (-80, 80) degrees.
+    let dist = "camera_distance_mm";
+    assert_eq!(fails(&with("0", "5")), (Some(10), ReadErrorKind::NotPositive { key: dist, value: 0.0 }));
+    assert_eq!(fails(&with("-450", "5")), (Some(10), ReadErrorKind::NotPositive { key: dist, value: -450.0 }));
+    assert_eq!(fails(&with("inf", "5")), (Some(10), ReadErrorKind::NonFinite { what: dist.into(), value: "inf".into() }));
+    assert_eq!(fails(&with("far", "5")), (Some(10), ReadErrorKind::NotNumeric { what: dist.into(), value: "far".into() }));
+    let tilt = "camera_tilt_deg";
+    for bad in [80.0, -80.0, 95.0, -400.0] {
+        let kind = ReadErrorKind::OutOfRange { key: tilt, value: bad, lo: -80.0, hi: 80.0 };
+        assert_eq!(fails(&with("450", &bad.to_string())), (Some(11), kind));
+    }
+    assert_eq!(fails(&with("450", "NaN")), (Some(11), ReadErrorKind::NonFinite { what: tilt.into(), value: "NaN".into() }));
+    let e = parse_recording(with("450", "85").as_bytes(), Path::new("t.csv")).unwrap_err();
+    assert_eq!(e.to_string(), "t.csv:11: camera_tilt_deg = 85 must lie between -80 and 80 (exclusive)");
+    // Just inside the range, and a tilt without a distance, are fine.
+    for (d, t) in [("450", "79.9"), ("1e4", "-79.9")] {
+        assert!(parse_recording(with(d, t).as_bytes(), Path::new("t.csv")).is_ok(), "{d} {t}");
+    }
+    let tilt_only = head(5).replace("# image_height_px = 1024\n", "# image_height_px = 1024\n# camera_tilt_deg = 3\n");
+    let rec = parse_recording(tilt_only.as_bytes(), Path::new("t.csv")).unwrap();
+    assert_eq!((rec.header.camera_distance_mm, rec.header.camera_tilt_deg), (None, Some(3.0)));
 }

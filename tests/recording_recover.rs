@@ -23,7 +23,7 @@ fn z_stats(z: &[f64]) -> (f64, f64) {
 #[test]
 fn recovers_the_sample_motion_within_its_uncertainties() {
     let t = truth::load();
-    let rec = read_recording(&common::shared_data("sample-ring.csv")).unwrap();
+    let rec = read_recording(&common::test_data("sample-ring.csv")).unwrap();
     let m = recover(&rec).unwrap();
     let mm = t.units.length_mm;
     let (l, ts) = (mm, t.units.time_s);

@@ -9,7 +9,8 @@ use ringlab::physics::EffectKind;
 use ringlab::physics::run::RunError;
 use ringlab::recording::marks::MarkOrder;
 use ringlab::recording::synth::{SynthError, SynthOptions, Synthesized, synthesize};
-use ringlab::recording::{parse_recording, read_recording, recover, write_recording};
+use ringlab::recording::marks::MarkGeometry;
+use ringlab::recording::{Camera, parse_recording, read_recording, recover, write_recording};
 use std::path::Path;
 
 /// The paper-ring preset with the sample's truth parameters.
@@ -50,7 +51,7 @@ fn a_synthesized_recording_reads_back_as_written() {
 
 #[test]
 fn made_from_the_truth_it_looks_like_the_sample() {
-    let sample = read_recording(&common::shared_data("sample-ring.csv")).unwrap();
+    let sample = read_recording(&common::test_data("sample-ring.csv")).unwrap();
     let s = synthesize(&truth_case(), &SynthOptions::default()).unwrap();
     let synth = parse_recording(&written(&s), Path::new("synth.csv")).unwrap();
     let (hs, hy) = (&sample.header, &synth.header);
@@ -135,4 +136,87 @@ fn bad_options_and_unavailable_effects_are_errors() {
             assert!(e.to_string().contains("slip"), "{e}");
         }
     }
+}
+
+#[test]
+fn a_pinhole_camera_magnifies_the_marks_and_its_header_keys_reproduce_them() {
+    let case = truth_case();
+    let plain = SynthOptions { noise_px: 0.0, ..SynthOptions::default() };
+    let ortho = synthesize(&case, &plain).unwrap();
+    let pin_opts = SynthOptions { camera_distance_mm: Some(450.0), ..plain.clone() };
+    let pin = synthesize(&case, &pin_opts).unwrap();
+    // By default the header does not say.
+    assert_eq!(pin.recording.header, ortho.recording.header);
+    assert_eq!((pin.recording.header.camera_distance_mm, pin.recording.header.camera_tilt_deg), (None, None));
+    // Every mark is above the table, so it is seen farther from the image centre; off the
+    // centre by several pixels (about 6% of the distance: 450 / (450 - 27 mm)).
+    let centre = [640.0, 512.0];
+    let r = |p: [f64; 2]| (p[0] - centre[0]).hypot(p[1] - centre[1]);
+    let (mut far, mut shift) = (0, 0.0f64);
+    for (i, (a, b)) in ortho.recording.frames.iter().zip(&pin.recording.frames).enumerate() {
+        for (p, q) in a.iter().zip(b) {
+            let (p, q) = (p.unwrap(), q.unwrap());
+            assert!(r(q) > r(p), "frame {i}: {q:?} not farther out than {p:?}");
+            if r(p) > 150.0 {
+                far += 1;
+                shift = shift.max((q[0] - p[0]).hypot(q[1] - p[1]));
+                assert!((q[0] - p[0]).hypot(q[1] - p[1]) > 5.0, "frame {i}: {p:?} -> {q:?}");
+            }
+        }
+    }
+    assert!(far > 100 && shift > 8.0, "{far} marks off the centre, largest shift {shift} px");
+    // With the keys in the header (the same marks), the camera read back reproduces them.
+    for (distance, tilt) in [(450.0, 0.0), (450.0, 20.0), (700.0, -35.0)] {
+        let opts = SynthOptions { camera_distance_mm: Some(distance), camera_tilt_deg: tilt, camera_in_header: true, ..plain.clone() };
+        let s = synthesize(&case, &opts).unwrap();
+        if tilt == 0.0 {
+            assert_eq!(s.recording.frames, pin.recording.frames);
+        }
+        let back = parse_recording(&written(&s), Path::new("pinhole.csv")).unwrap();
+        assert_eq!((back.header.camera_distance_mm, back.header.camera_tilt_deg), (Some(distance), Some(tilt)));
+        let camera = Camera::for_recording(&back.header, &back.frames);
+        assert_eq!(camera, s.camera);
+        let geometry = MarkGeometry::of_body(&back.header.body_mm().unwrap(), MarkOrder::Forward);
+        let mut worst = 0.0f64;
+        for (sample, frame) in s.samples.iter().zip(&back.frames) {
+            let l = s.length_mm;
+            let marks = geometry.marks3([sample.x_a * l, sample.y_a * l], sample.phi(), sample.theta(), sample.psi());
+            for (m, seen) in marks.iter().zip(frame) {
+                let p = camera.to_px3(m[0], m[1], m[2]);
+                let seen = seen.unwrap();
+                worst = worst.max((p[0] - seen[0]).abs()).max((p[1] - seen[1]).abs());
+            }
+        }
+        // Written to a hundredth of a pixel; the header's body to the nanometre.
+        assert!(worst < 0.0051, "{distance} mm, {tilt} deg: {worst} px");
+        // Read as orthographic (keys dropped), the same marks miss by pixels.
+        let flat = Camera { distance_mm: None, tilt_rad: 0.0, ..camera };
+        let s0 = &s.samples[0];
+        let m = geometry.marks3([s0.x_a * s.length_mm, s0.y_a * s.length_mm], s0.phi(), s0.theta(), s0.psi())[0];
+        let seen = back.frames[0][0].unwrap();
+        let p = flat.to_px(m[0], m[1]);
+        assert!((p[0] - seen[0]).hypot(p[1] - seen[1]) > 2.0, "{distance} mm, {tilt} deg");
+    }
+}
+
+#[test]
+fn camera_options_are_checked() {
+    let case = truth_case();
+    for bad in [
+        SynthOptions { camera_distance_mm: Some(0.0), ..SynthOptions::default() },
+        SynthOptions { camera_distance_mm: Some(f64::INFINITY), ..SynthOptions::default() },
+        SynthOptions { camera_distance_mm: Some(100.0), ..SynthOptions::default() },
+        SynthOptions { camera_tilt_deg: 80.0, ..SynthOptions::default() },
+        SynthOptions { camera_tilt_deg: f64::NAN, ..SynthOptions::default() },
+    ] {
+        assert!(matches!(synthesize(&case, &bad), Err(SynthError::Option(_))), "{bad:?} accepted");
+    }
+    // Just beyond five outer radii (103.3 mm) is allowed.
+    let near = SynthOptions { camera_distance_mm: Some(110.0), ..SynthOptions::default() };
+    assert_eq!(synthesize(&case, &near).unwrap().camera.distance_mm, Some(110.0));
+    // A ring that rolls behind a tilted camera cannot be filmed: an error, not NaN pixels.
+    let mut away = case.clone();
+    away.initial.y_c = 10.0;
+    let tilted = SynthOptions { camera_tilt_deg: 60.0, ..near };
+    assert!(matches!(synthesize(&away, &tilted), Err(SynthError::Camera(_))));
 }

@@ -38,7 +38,7 @@ fn temp_dir(name: &str) -> PathBuf {
 fn a_dropped_recording_is_shown_and_the_model_starts_from_it() {
     let mut h = harness();
     h.run_steps(2);
-    drop_file(&mut h, &common::shared_data("sample-ring.csv"));
+    drop_file(&mut h, &common::test_data("sample-ring.csv"));
     let app = h.state();
     let l = app.recording.loaded().expect("loaded");
     assert_eq!(l.frames().len(), 1884);
@@ -64,7 +64,7 @@ fn a_dropped_recording_is_shown_and_the_model_starts_from_it() {
 #[test]
 fn a_bad_file_shows_its_error_with_file_and_line_and_the_app_keeps_running() {
     let dir = temp_dir("window-bad");
-    let good = std::fs::read_to_string(common::shared_data("sample-ring.csv")).unwrap();
+    let good = std::fs::read_to_string(common::test_data("sample-ring.csv")).unwrap();
     let head: String = good.lines().take(30).map(|l| format!("{l}\n")).collect();
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, head.replace("\n5,605.20,", "\n5,abc,")).unwrap();
@@ -84,7 +84,7 @@ fn a_bad_file_shows_its_error_with_file_and_line_and_the_app_keeps_running() {
     h.get_by_label("Dismiss").click();
     h.run_steps(2);
     assert!(h.query_by_label_contains("is not a number").is_none(), "dismissed");
-    drop_file(&mut h, &common::shared_data("sample-ring.csv"));
+    drop_file(&mut h, &common::test_data("sample-ring.csv"));
     assert!(h.state().recording.loaded().is_some());
 
     // A file that is not there, and one whose marks give no pose (two per frame).
@@ -110,7 +110,7 @@ fn a_bad_file_shows_its_error_with_file_and_line_and_the_app_keeps_running() {
 #[test]
 fn the_fit_runs_on_its_thread_and_can_be_cancelled() {
     let mut app = RinglabApp::new(Settings::default(), Mode::Live);
-    app.open_recording(common::shared_data("sample-ring.csv"));
+    app.open_recording(common::test_data("sample-ring.csv"));
     app.finish_recording_jobs();
     assert!(app.recording.loaded().is_some(), "{:?}", app.recording.error);
     app.act_on_recording(RecordingAction::Fit);
@@ -126,7 +126,7 @@ fn the_fit_runs_on_its_thread_and_can_be_cancelled() {
 #[test]
 fn a_session_reads_on_its_thread() {
     let mut s = RecordingSession::new(true);
-    s.open(common::shared_data("sample-ring.csv"));
+    s.open(common::test_data("sample-ring.csv"));
     assert!(s.loading().is_some());
     let events = s.wait();
     assert_eq!(events.len(), 1);
@@ -153,7 +153,7 @@ fn a_session_reads_on_its_thread() {
 fn the_file_menu_closes_a_recording() {
     let mut h = harness();
     h.run_steps(2);
-    drop_file(&mut h, &common::shared_data("sample-ring.csv"));
+    drop_file(&mut h, &common::test_data("sample-ring.csv"));
     assert!(h.state().recording.loaded().is_some());
     h.get_by_label("File").click();
     h.run_steps(2);

@@ -81,7 +81,7 @@ fn app_ring_vs_disk() {
 fn app_sample_recording_fitted() {
     let (w, h) = (1480u32, 920u32);
     let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 0.0 });
-    app.open_recording(std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/sample-ring.csv"));
+    app.open_recording(std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sample-ring.csv"));
     let mut harness = builder(w, h).build_ui_state(
         |ui, app: &mut RinglabApp| {
             background(ui);

@@ -4,7 +4,7 @@ use super::diagnose_report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use ringlab::analysis::diagnose::{Diagnosis, DiagnoseOptions, DiagnoseProgress, diagnose};
+use ringlab::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, DiagnoseOptions, DiagnoseProgress, Finding, diagnose};
 use ringlab::physics::EffectKind;
 use ringlab::recording::read_recording;
 use serde::Serialize;
@@ -39,7 +39,16 @@ pub struct DiagnoseArgs {
 /// The JSON object of `ringlab diagnose --json`.
 #[derive(Serialize, Debug)]
 pub struct DiagnoseJson {
+    /// `none`, `unexplained`, or the first effect named.
     pub left_out: &'static str,
+    /// Every effect named, in order (empty for `none` and `unexplained`).
+    pub left_out_all: Vec<&'static str>,
+    /// For `unexplained`: the candidate that explains the largest share of the excess.
+    pub partial: Option<PartialJson>,
+    /// Tracked mark positions left out as the tracker's glitches.
+    pub glitches: usize,
+    /// The baseline is `none` only within this many times the noise.
+    pub consistent_ratio: f64,
     pub mismatch: Option<WindowJson>,
     pub before: FitJson,
     pub after: FitJson,
@@ -54,6 +63,13 @@ pub struct DiagnoseJson {
 }
 
 #[derive(Serialize, Debug)]
+pub struct PartialJson {
+    pub name: &'static str,
+    /// Share of the baseline's squared misfit beyond the noise that it removes.
+    pub explained_share: f64,
+}
+
+#[derive(Serialize, Debug)]
 pub struct WindowJson {
     pub start_s: f64,
     pub end_s: f64,
@@ -64,6 +80,8 @@ pub struct WindowJson {
 #[derive(Serialize, Debug)]
 pub struct FitJson {
     pub rms_px: f64,
+    /// `sqrt(max(rms^2 - noise^2, 0))`: the misfit beyond the noise.
+    pub excess_px: f64,
     pub score: f64,
     pub effect: &'static str,
     /// `C1..C3`, their sigmas, and the effect's strength with its sigma, by name.
@@ -106,10 +124,21 @@ impl DiagnoseJson {
                 params.insert(f.effect.name().to_string(), finite(v));
                 params.insert(format!("{}_sigma", f.effect.name()), finite(s));
             }
-            FitJson { rms_px: f.rms_px, score: f.score, effect: f.effect.name(), params, end_s: f.end_s }
+            if let Some((v, s)) = f.tilt_deg {
+                params.insert("camera_tilt_deg".into(), finite(v));
+                params.insert("camera_tilt_deg_sigma".into(), finite(s));
+            }
+            FitJson { rms_px: f.rms_px, excess_px: d.excess_px(f.rms_px), score: f.score, effect: f.effect.name(), params, end_s: f.end_s }
         };
         DiagnoseJson {
-            left_out: d.left_out.name(),
+            left_out: d.finding.name(),
+            left_out_all: d.finding.named().iter().map(|k| k.name()).collect(),
+            partial: match &d.finding {
+                Finding::Unexplained { partial: Some((k, share)) } => Some(PartialJson { name: k.name(), explained_share: *share }),
+                _ => None,
+            },
+            glitches: d.glitches.len(),
+            consistent_ratio: CONSISTENT_RATIO,
             mismatch: d.mismatch.as_ref().map(window),
             before: fit(&d.before),
             after: fit(&d.after),
@@ -212,13 +241,31 @@ pub fn run(args: &DiagnoseArgs) -> Result<()> {
 }
 
 fn print_summary(file: &std::path::Path, d: &Diagnosis) {
-    println!("{}: {} frames, {} fitted; pixel noise {:.3} px", file.display(), d.frames, d.frames_fitted, d.noise_px);
-    println!("left out: {}", d.left_out);
+    println!(
+        "{}: {} frames, {} fitted; pixel noise {:.3} px; {} glitch{} left out",
+        file.display(),
+        d.frames,
+        d.frames_fitted,
+        d.noise_px,
+        d.glitches.len(),
+        if d.glitches.len() == 1 { "" } else { "es" }
+    );
+    match &d.finding {
+        Finding::Named(k) => println!("left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")),
+        Finding::Unexplained { partial: Some((k, share)) } => println!("left out: unexplained ({k} explains {:.0}% of the excess)", 100.0 * share),
+        f => println!("left out: {}", f.name()),
+    }
     match &d.mismatch {
         Some(m) => println!("mismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the excess)", m.start_s, m.end_s, m.rms_px, 100.0 * m.share),
         None => println!("mismatch: none beyond the noise"),
     }
-    println!("misfit over the whole run: before {:.3} px, after {:.3} px", d.before.rms_px, d.after.rms_px);
+    println!(
+        "misfit over the whole run: before {:.3} px, after {:.3} px (beyond the noise: {:.3} -> {:.3} px)",
+        d.before.rms_px,
+        d.after.rms_px,
+        d.excess_px(d.before.rms_px),
+        d.excess_px(d.after.rms_px)
+    );
     println!("candidates (BIC, lower is better; baseline 0):");
     for c in &d.candidates {
         let strength = c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));

@@ -235,7 +235,7 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
                 Ok(d) => Row {
                     effect: k,
                     seed,
-                    named: d.left_out,
+                    named: d.finding.first(),
                     before: d.before.rms_px,
                     after: d.after.rms_px,
                     seconds: d.compute_seconds,

@@ -4,7 +4,7 @@
 
 use anyhow::{Context, Result};
 use ringlab::analysis::diagnose::explain::{describe, sig};
-use ringlab::analysis::diagnose::{Diagnosis, ModelFit};
+use ringlab::analysis::diagnose::{Diagnosis, Finding, ModelFit};
 use ringlab::physics::EffectKind;
 use ringlab::plot::canvas::{BLACK, GREY};
 use ringlab::plot::{Axis, Canvas, Chart, Rgb};
@@ -56,7 +56,7 @@ fn trace(d: &Diagnosis) -> Canvas {
     c.line(&line(&t.before_px), BEFORE, 1.6);
     c.add_legend("recording (centroid of the marks)", DATA);
     c.add_legend(&label(&d.before), BEFORE);
-    if d.left_out != EffectKind::None {
+    if !d.finding.named().is_empty() {
         c.line(&line(&t.after_px), AFTER, 1.6);
         c.add_legend(&label(&d.after), AFTER);
     }
@@ -75,7 +75,7 @@ fn residual(d: &Diagnosis) -> Canvas {
     let (t0, t1) = (r.t_s.first().copied().unwrap_or(0.0), r.t_s.last().copied().unwrap_or(1.0));
     let top = r.window_before_px.iter().chain(&r.window_followed_px).chain(&r.after_px).copied().filter(|v| v.is_finite()).fold(0.0, f64::max);
     let y = Axis::log(0.1, (top * 1.5).max(3.0));
-    let improved = d.left_out != EffectKind::None;
+    let improved = !d.finding.named().is_empty();
     let title = format!(
         "Residual against time: baseline {:.2} px, {} {:.2} px rms",
         d.before.rms_px,
@@ -143,7 +143,7 @@ fn candidates(d: &Diagnosis) -> Canvas {
     }
     for (i, c) in rows.iter().enumerate() {
         let y = top + 46.0 * i as f64;
-        let color = if c.effect == d.left_out { AFTER } else if c.effect == EffectKind::None { BEFORE } else { [150, 150, 150] };
+        let color = if d.finding.named().contains(&c.effect) { AFTER } else if c.effect == EffectKind::None { BEFORE } else { [150, 150, 150] };
         let end = px(c.delta_score);
         canvas.fill_rect(zero.min(end), y, zero.max(end).max(zero.min(end) + 2.0), y + 26.0, color, 1.0);
         let name = c.effect.name();
@@ -196,11 +196,28 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
         env!("CARGO_PKG_VERSION"),
         d.compute_seconds
     );
-    let _ = writeln!(m, "**Left out: {}** ({}).\n", d.left_out, describe(d.left_out));
+    match &d.finding {
+        Finding::Named(kinds) => {
+            for k in kinds {
+                let _ = writeln!(m, "**Left out: {k}** ({}).\n", describe(*k));
+            }
+        }
+        Finding::Nothing => {
+            let _ = writeln!(m, "**Left out: none** (the baseline is consistent with the noise).\n");
+        }
+        Finding::Unexplained { partial } => {
+            let part = partial.map_or(String::new(), |(k, s)| format!("; {k} explains {:.0}% of the excess, partially", 100.0 * s));
+            let _ = writeln!(m, "**Left out: unexplained** (the baseline misses beyond the noise and no candidate explains most of it{part}).\n");
+        }
+    }
+    if !d.glitches.is_empty() {
+        let _ = writeln!(m, "Tracker glitches left out of every fit: {} mark positions.\n", d.glitches.len());
+    }
     let _ = writeln!(m, "| | misfit over the whole run | fitted |");
     let _ = writeln!(m, "|---|---|---|");
-    let _ = writeln!(m, "| before: {} | {:.3} px rms | {} |", label(&d.before), d.before.rms_px, params(&d.before));
-    let _ = writeln!(m, "| after: {} | {:.3} px rms | {} |", label(&d.after), d.after.rms_px, params(&d.after));
+    let excess = |f: &ModelFit| d.excess_px(f.rms_px);
+    let _ = writeln!(m, "| before: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |", label(&d.before), d.before.rms_px, excess(&d.before), params(&d.before));
+    let _ = writeln!(m, "| after: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |", label(&d.after), d.after.rms_px, excess(&d.after), params(&d.after));
     match &d.mismatch {
         Some(w) => {
             let _ = writeln!(m, "\nMismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the baseline's misfit beyond the noise).", w.start_s, w.end_s, w.rms_px, 100.0 * w.share);

@@ -73,8 +73,8 @@ impl EffectArgs {
         let effects = self.effects()?;
         let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
         for &(kind, x) in &effects {
-            if kind == EffectKind::CameraDistortion {
-                bail!("--effect camera_distortion changes the camera, not the motion: give it to `ringlab synth`");
+            if kind.is_camera() {
+                bail!("--effect {kind} changes the camera, not the motion: give it to `ringlab synth`");
             }
             let mut e = case.model.effects;
             apply(kind, x, case.model.body.r, start.reynolds, &mut e)

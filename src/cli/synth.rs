@@ -48,6 +48,17 @@ pub struct SynthArgs {
     /// Number the marks counter-clockwise seen from above (the sample runs clockwise)
     #[arg(long)]
     pub reverse_marks: bool,
+    /// Film through a pinhole camera this far from the table (mm, along its optical axis);
+    /// default: orthographic
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub camera_distance_mm: Option<f64>,
+    /// Tilt of the camera's axis from the table normal (degrees, about the image's horizontal
+    /// axis; positive: the camera towards the table's +Y)
+    #[arg(long, default_value_t = 0.0, value_name = "T", allow_negative_numbers = true)]
+    pub camera_tilt_deg: f64,
+    /// Write the camera's distance and tilt into the header (by default it does not say)
+    #[arg(long)]
+    pub camera_in_header: bool,
     /// Output file (format v1); '-' for standard output
     #[arg(long, value_name = "FILE.csv")]
     pub out: PathBuf,
@@ -58,6 +69,16 @@ fn parse_image(s: &str) -> Result<(f64, f64)> {
     let w: f64 = w.trim().parse().with_context(|| format!("--image '{s}': width is not a number"))?;
     let h: f64 = h.trim().parse().with_context(|| format!("--image '{s}': height is not a number"))?;
     Ok((w, h))
+}
+
+/// The camera, where it is not the default orthographic one.
+fn camera_note(opts: &SynthOptions) -> String {
+    if opts.camera_distance_mm.is_none() && opts.camera_tilt_deg == 0.0 {
+        return String::new();
+    }
+    let distance = opts.camera_distance_mm.map_or("orthographic".to_string(), |d| format!("pinhole at {d} mm"));
+    let header = if opts.camera_in_header { "in the header" } else { "not in the header" };
+    format!("; camera {distance}, tilt {} deg ({header})", opts.camera_tilt_deg)
 }
 
 pub fn run(args: &SynthArgs) -> Result<()> {
@@ -89,6 +110,9 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         image_height_px,
         mark_order: if args.reverse_marks { MarkOrder::Reverse } else { MarkOrder::Forward },
         missing_fraction: args.drop_marks,
+        camera_distance_mm: args.camera_distance_mm,
+        camera_tilt_deg: args.camera_tilt_deg,
+        camera_in_header: args.camera_in_header,
     };
     let synth = synthesize(&case, &opts).with_context(|| format!("synthesizing a recording of case '{}'", case.name))?;
     let rec = &synth.recording;
@@ -105,7 +129,7 @@ pub fn run(args: &SynthArgs) -> Result<()> {
     }
     let moving = synth.samples.len() - if synth.summary.end_reason.is_natural() { args.rest_frames } else { 0 };
     eprintln!(
-        "{}: {} frames at {} fps ({} moving, then {}); run ended {} at t = {:.4} ({:.3} s); noise {} px{}{}",
+        "{}: {} frames at {} fps ({} moving, then {}); run ended {} at t = {:.4} ({:.3} s); noise {} px{}{}{}",
         args.out.display(),
         rec.frames.len(),
         args.fps,
@@ -117,6 +141,7 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         args.noise_px,
         effect.map(|(k, x)| format!("; effect {k} = {x}")).unwrap_or_default(),
         if synth.camera.k1 != 0.0 { format!("; lens k1 = {}", synth.camera.k1) } else { String::new() },
+        camera_note(&opts),
     );
     Ok(())
 }

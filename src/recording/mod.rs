@@ -2,11 +2,13 @@
 //!
 //! - [`read`]: the reader, every problem the format names as a typed [`ReadError`] with file
 //!   and line; [`mod@write`]: the writer.
-//! - [`camera`]: table (mm) to pixels and back (orthographic, top-down, optional radial lens
-//!   distortion); [`marks`]: where the four marks sit for a given pose.
+//! - [`camera`]: table (mm) to pixels and back (orthographic or a pinhole, optionally tilted,
+//!   optional radial lens distortion); [`marks`]: where the four marks sit for a given pose.
 //! - [`pose`] and [`mod@recover`]: the ring's motion recovered from the marks, frame by frame,
 //!   with uncertainties from the pixel noise ([`smooth`]: local fits and turning points);
 //!   [`motion_table`] writes it as CSV.
+//! - [`noise`], [`glitches`], [`tracks`]: what the tracks say alone, before any model: the
+//!   pixel noise, a tracker's outliers and swapped labels, and the recording without them.
 //! - [`synth`]: recordings made from the model (for tests, the fit's checks and the diagnosis),
 //!   with its own seeded noise ([`rng`]).
 //!
@@ -15,14 +17,17 @@
 //! its progress callback and cancel flag.
 
 pub mod camera;
+pub mod glitches;
 pub mod marks;
 pub mod motion_table;
+pub mod noise;
 pub mod pose;
 pub mod read;
 pub mod recover;
 pub mod rng;
 pub mod smooth;
 pub mod synth;
+pub mod tracks;
 pub mod write;
 
 pub use camera::Camera;
@@ -50,6 +55,10 @@ pub struct Header {
     pub thickness_mm: Option<f64>,
     pub image_width_px: Option<f64>,
     pub image_height_px: Option<f64>,
+    /// The camera's distance (mm) and tilt (degrees) where the lab measured them (see
+    /// [`Camera`]); absent: unknown.
+    pub camera_distance_mm: Option<f64>,
+    pub camera_tilt_deg: Option<f64>,
     /// Keys this reader does not know, in file order (kept, not interpreted).
     pub extra: Vec<(String, String)>,
 }

@@ -201,7 +201,7 @@ mod tests {
     #[test]
     fn recovers_pose_from_four_and_three_marks() {
         for order in [MarkOrder::Forward, MarkOrder::Reverse] {
-            let g = MarkGeometry { radius: 20.0, order };
+            let g = MarkGeometry { radius: 20.0, r_outer: 20.5, h: 18.0, order };
             for (phi, theta, psi) in [(0.3, 0.6, 1.0), (-2.0, 1.2, -0.3), (2.5, 0.9, 2.8), (1.0, 1.5, -2.0)] {
                 let truth = Pose { a: [10.0, -5.0], phi, theta, psi };
                 let exact = g.marks(truth.a, phi, theta, psi);

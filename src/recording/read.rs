@@ -3,6 +3,9 @@
 //! scale or frame rate that is not positive) is a [`ReadError`] with the file and the line;
 //! nothing is skipped silently and nothing panics, whatever the bytes.
 //!
+//! The optional camera keys must make a camera: `camera_distance_mm` a positive number,
+//! `camera_tilt_deg` within (-80, 80) degrees (beyond, the table would be seen edge-on).
+//!
 //! Accepted beyond the letter of the format: `\r\n` line ends, blank lines, and `#` lines
 //! without `=` (comments). A frame may be given with all marks empty (nothing tracked).
 
@@ -13,6 +16,8 @@ use thiserror::Error;
 
 /// The first line of a v1 recording.
 pub const MAGIC: &str = "# ringlab-recording v1";
+/// The largest camera tilt a recording may give (degrees, exclusive).
+pub const MAX_TILT_DEG: f64 = 80.0;
 /// The column header line.
 pub const COLUMNS: [&str; 9] = ["frame", "x1", "y1", "x2", "y2", "x3", "y3", "x4", "y4"];
 
@@ -51,6 +56,8 @@ pub enum ReadErrorKind {
     NonFinite { what: String, value: String },
     #[error("{key} = {value} must be greater than zero")]
     NotPositive { key: &'static str, value: f64 },
+    #[error("{key} = {value} must lie between {lo} and {hi} (exclusive)")]
+    OutOfRange { key: &'static str, value: f64, lo: f64, hi: f64 },
     #[error("shape = '{value}' is neither 'ring' nor 'disk'")]
     UnknownShape { value: String },
     #[error("the body is impossible: {0}")]
@@ -225,11 +232,41 @@ fn parse_header(keys: &[(String, String, usize)], columns_line: usize) -> Result
     };
     let image_width_px = find("image_width_px").map(|e| positive("image_width_px", e)).transpose()?;
     let image_height_px = find("image_height_px").map(|e| positive("image_height_px", e)).transpose()?;
-    const KNOWN: [&str; 8] =
-        ["fps", "px_per_mm", "shape", "outer_radius_mm", "width_mm", "thickness_mm", "image_width_px", "image_height_px"];
+    let camera_distance_mm = find("camera_distance_mm").map(|e| positive("camera_distance_mm", e)).transpose()?;
+    let camera_tilt_deg = find("camera_tilt_deg")
+        .map(|e| {
+            const KEY: &str = "camera_tilt_deg";
+            let v = parse_number(KEY, &e.1).map_err(|k| (e.2, k))?;
+            let (lo, hi) = (-MAX_TILT_DEG, MAX_TILT_DEG);
+            if v > lo && v < hi { Ok(v) } else { Err((e.2, ReadErrorKind::OutOfRange { key: KEY, value: v, lo, hi })) }
+        })
+        .transpose()?;
+    const KNOWN: [&str; 10] = [
+        "fps",
+        "px_per_mm",
+        "shape",
+        "outer_radius_mm",
+        "width_mm",
+        "thickness_mm",
+        "image_width_px",
+        "image_height_px",
+        "camera_distance_mm",
+        "camera_tilt_deg",
+    ];
     let extra = keys.iter().filter(|(k, _, _)| !KNOWN.contains(&k.as_str())).map(|(k, v, _)| (k.clone(), v.clone())).collect();
-    let header =
-        Header { fps, px_per_mm, shape, outer_radius_mm, width_mm, thickness_mm, image_width_px, image_height_px, extra };
+    let header = Header {
+        fps,
+        px_per_mm,
+        shape,
+        outer_radius_mm,
+        width_mm,
+        thickness_mm,
+        image_width_px,
+        image_height_px,
+        camera_distance_mm,
+        camera_tilt_deg,
+        extra,
+    };
     if let Err(e) = header.body_mm() {
         let line = find("thickness_mm").map(|e| e.2).unwrap_or(outer.2);
         return Err((line, ReadErrorKind::InvalidBody(e.to_string())));

@@ -23,7 +23,7 @@
 //! converts.
 
 use super::camera::Camera;
-use super::marks::{MarkGeometry, MarkOrder, mark_radius};
+use super::marks::{MarkGeometry, MarkOrder};
 use super::pose::{PoseFit, fit_pose, initial_pose, point_a};
 use super::smooth::{Extremum, extrema, local_quadratic, smooth};
 use super::{FrameMarks, Recording};
@@ -124,7 +124,7 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
     let fps = rec.header.fps;
     let marks_mm: Vec<FrameMarks> = rec.frames.iter().map(|f| f.map(|m| m.map(|p| camera.to_mm(p)))).collect();
     let mark_order = mark_order(&marks_mm);
-    let geometry_mm = MarkGeometry { radius: mark_radius(&body_mm), order: mark_order };
+    let geometry_mm = MarkGeometry::of_body(&body_mm, mark_order);
     let fits: Vec<Option<PoseFit>> =
         marks_mm.par_iter().map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s))).collect();
     if fits.iter().all(Option::is_none) {

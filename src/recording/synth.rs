@@ -4,12 +4,16 @@
 //! its marks follows the truth run to 0.25 px per axis, the noise of four marks averaged):
 //! frame `n` is the model at `t = n / fps` from the case's start; the marks (see
 //! [`super::marks`]) are projected straight down with the table's origin at the image centre,
-//! `y` downward; Gaussian noise of `noise_px` is added to each coordinate. When the run ends
+//! `y` downward; Gaussian noise of `noise_px` is added to each coordinate. A camera distance or
+//! tilt films through that camera instead ([`super::camera`]: the marks' heights above the table
+//! magnified); the header names it only with `camera_in_header`, so that by default a diagnosis
+//! has to find it, as it would a lab's unmeasured camera. When the run ends
 //! naturally (flat or at rest) after `t_end`, frames `0 .. floor(t_end fps)` show the motion and
 //! then `rest_frames` more show the final pose, still (the sample: 1824 + 60 frames).
 
 use super::camera::Camera;
-use super::marks::{MarkGeometry, MarkOrder, mark_radius};
+use super::marks::{MarkGeometry, MarkOrder};
+use super::read::MAX_TILT_DEG;
 use super::rng::Rng;
 use super::{FrameMarks, Header, MARKS, Recording};
 use crate::config::Case;
@@ -20,6 +24,8 @@ use thiserror::Error;
 
 /// The paper's camera scale: 135.6 px = 40.3 mm.
 pub const PAPER_PX_PER_MM: f64 = 135.6 / 40.3;
+/// The closest camera `synth` films with, in outer radii of the body.
+pub const MIN_CAMERA_DISTANCE_RADII: f64 = 5.0;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct SynthOptions {
@@ -39,6 +45,12 @@ pub struct SynthOptions {
     pub mark_order: MarkOrder,
     /// Probability that a mark is missing (not tracked) in a frame.
     pub missing_fraction: f64,
+    /// A pinhole camera this far from the table (mm, along its axis); None: orthographic.
+    pub camera_distance_mm: Option<f64>,
+    /// The camera's tilt (degrees; positive: the camera towards the table's `-Y`, the image's bottom).
+    pub camera_tilt_deg: f64,
+    /// Whether the header gives the camera's distance and tilt (the format's optional keys).
+    pub camera_in_header: bool,
 }
 
 impl Default for SynthOptions {
@@ -55,6 +67,9 @@ impl Default for SynthOptions {
             image_height_px: 1024.0,
             mark_order: MarkOrder::Forward,
             missing_fraction: 0.0,
+            camera_distance_mm: None,
+            camera_tilt_deg: 0.0,
+            camera_in_header: false,
         }
     }
 }
@@ -67,6 +82,8 @@ pub enum SynthError {
     Effect(ParamError),
     #[error("the model cannot run: {0}")]
     Run(RunError),
+    #[error("the camera cannot film the run: {0}")]
+    Camera(String),
 }
 
 /// A synthesized recording with what it was made from.
@@ -98,6 +115,15 @@ impl SynthOptions {
         if !self.lens_k1.is_finite() || self.lens_k1.abs() > 0.5 {
             return Err(SynthError::Option(format!("lens k1 = {} must lie in [-0.5, 0.5]", self.lens_k1)));
         }
+        if let Some(d) = self.camera_distance_mm
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(SynthError::Option(format!("camera distance = {d} mm must be a positive number")));
+        }
+        if !(self.camera_tilt_deg.abs() < MAX_TILT_DEG) {
+            let t = self.camera_tilt_deg;
+            return Err(SynthError::Option(format!("camera tilt = {t} degrees must lie between -{MAX_TILT_DEG} and {MAX_TILT_DEG}")));
+        }
         if !(0.0..1.0).contains(&self.missing_fraction) {
             return Err(SynthError::Option(format!("missing fraction = {} must lie in [0, 1)", self.missing_fraction)));
         }
@@ -111,13 +137,24 @@ impl SynthOptions {
         Ok(())
     }
 
-    /// The camera these options describe (the effect `camera_distortion` sets its `k1`).
+    /// The camera these options describe (the effect `camera_distortion` sets its `k1`,
+    /// `camera_perspective` its distance).
     pub fn camera(&self) -> Camera {
         let k1 = match self.effect {
             Some((EffectKind::CameraDistortion, s)) => s,
             _ => self.lens_k1,
         };
-        Camera { k1, ..Camera::centred(self.px_per_mm, self.image_width_px, self.image_height_px) }
+        // The effect `camera_perspective` sets the distance (strength 1000 mm / D).
+        let distance_mm = match self.effect {
+            Some((EffectKind::CameraPerspective, s)) if s > 0.0 => Some(1000.0 / s),
+            _ => self.camera_distance_mm,
+        };
+        Camera {
+            k1,
+            distance_mm,
+            tilt_rad: self.camera_tilt_deg.to_radians(),
+            ..Camera::centred(self.px_per_mm, self.image_width_px, self.image_height_px)
+        }
     }
 }
 
@@ -126,6 +163,15 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
     opts.validate()?;
     let to_mm = Conversion::between(case.units, Units::MM_S);
     let (length_mm, time_s) = (to_mm.length, to_mm.time);
+    // Closer than a few radii the ring would fill the picture (and could reach the lens).
+    if let Some(d) = opts.camera_distance_mm
+        && d <= MIN_CAMERA_DISTANCE_RADII * case.model.body.r * length_mm
+    {
+        let r = case.model.body.r * length_mm;
+        return Err(SynthError::Option(format!(
+            "camera distance = {d} mm must exceed {MIN_CAMERA_DISTANCE_RADII} times the body's outer radius ({r:.3} mm)"
+        )));
+    }
     let mut model = case.model.clone();
     if let Some((kind, strength)) = opts.effect {
         let start = Sample::new(&model, 0.0, &case.initial.to_state());
@@ -144,24 +190,28 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
     }
 
     let camera = opts.camera();
-    let geometry = MarkGeometry { radius: mark_radius(&model.body) * length_mm, order: opts.mark_order };
+    let geometry = MarkGeometry::of_body(&model.body, opts.mark_order).scaled(length_mm);
     let mut rng = Rng::new(opts.seed);
-    let frames: Vec<FrameMarks> = samples
-        .iter()
-        .map(|s| {
-            let a = [s.x_a * length_mm, s.y_a * length_mm];
-            let marks = geometry.marks(a, s.phi(), s.theta(), s.psi());
-            let mut out: FrameMarks = [None; MARKS];
-            for (slot, m) in out.iter_mut().zip(marks) {
-                let p = camera.to_px(m[0], m[1]);
-                let noisy = [p[0] + opts.noise_px * rng.normal(), p[1] + opts.noise_px * rng.normal()];
-                if opts.missing_fraction == 0.0 || rng.uniform() >= opts.missing_fraction {
-                    *slot = Some(noisy);
-                }
+    let mut frames: Vec<FrameMarks> = Vec::with_capacity(samples.len());
+    for (n, s) in samples.iter().enumerate() {
+        let a = [s.x_a * length_mm, s.y_a * length_mm];
+        let pixels = if camera.sees_height() {
+            geometry.marks3(a, s.phi(), s.theta(), s.psi()).map(|m| camera.to_px3(m[0], m[1], m[2]))
+        } else {
+            geometry.marks(a, s.phi(), s.theta(), s.psi()).map(|m| camera.to_px(m[0], m[1]))
+        };
+        if pixels.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(SynthError::Camera(format!("at frame {n} a mark is at or behind the camera's centre plane")));
+        }
+        let mut out: FrameMarks = [None; MARKS];
+        for (slot, p) in out.iter_mut().zip(pixels) {
+            let noisy = [p[0] + opts.noise_px * rng.normal(), p[1] + opts.noise_px * rng.normal()];
+            if opts.missing_fraction == 0.0 || rng.uniform() >= opts.missing_fraction {
+                *slot = Some(noisy);
             }
-            out
-        })
-        .collect();
+        }
+        frames.push(out);
+    }
 
     let b = &model.body;
     // Lengths to the nanometre: the unit conversion's last bits are not information.
@@ -178,6 +228,8 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
         thickness_mm: (b.shape == crate::physics::Shape::Ring).then_some(mm(b.w)),
         image_width_px: Some(opts.image_width_px),
         image_height_px: Some(opts.image_height_px),
+        camera_distance_mm: opts.camera_distance_mm.filter(|_| opts.camera_in_header),
+        camera_tilt_deg: opts.camera_in_header.then_some(opts.camera_tilt_deg),
         extra,
     };
     let recording = Recording { header, first_frame: 0, frames };

@@ -25,6 +25,12 @@ pub fn write_recording(out: &mut impl Write, rec: &Recording) -> io::Result<()> 
     if let Some(v) = h.image_height_px {
         writeln!(out, "# image_height_px = {v}")?;
     }
+    if let Some(d) = h.camera_distance_mm {
+        writeln!(out, "# camera_distance_mm = {d:?}")?;
+    }
+    if let Some(t) = h.camera_tilt_deg {
+        writeln!(out, "# camera_tilt_deg = {t:?}")?;
+    }
     for (k, v) in &h.extra {
         writeln!(out, "# {k} = {v}")?;
     }

@@ -7,8 +7,7 @@
 
 use super::palette::{BASELINE_COLOR, DATA_COLOR, IMPROVED_COLOR, MISMATCH_COLOR, MISMATCH_FILL};
 use super::plots::thin;
-use crate::analysis::diagnose::Diagnosis;
-use crate::physics::EffectKind;
+use crate::analysis::diagnose::{Diagnosis, Finding};
 use crate::sim::{Diagnosed, DiagnosedModel, RecordingSession};
 use eframe::egui::{self, RichText};
 use egui_plot::{FilledArea, HLine, Line, Plot, PlotPoints, Points};
@@ -79,20 +78,28 @@ fn pm(v: f64, s: f64) -> String {
 /// The finding, the plots and the buttons; the model asked for, if any.
 fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -> Option<DiagnosedModel> {
     let r = &d.result;
-    let headline = match r.left_out {
-        EffectKind::None => "Left out: nothing the recording can show".to_string(),
-        k => format!("Left out: {k}"),
+    let (headline, colour) = match &r.finding {
+        Finding::Nothing => ("Left out: nothing the recording can show".to_string(), DATA_COLOR),
+        Finding::Named(k) => (format!("Left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")), MISMATCH_COLOR),
+        Finding::Unexplained { partial } => (
+            format!(
+                "Left out: something no candidate explains{}",
+                partial.map_or(String::new(), |(k, s)| format!(" ({k} explains {:.0}%, partially)", 100.0 * s))
+            ),
+            MISMATCH_COLOR,
+        ),
     };
-    ui.label(RichText::new(headline).strong().size(15.0).color(if r.left_out == EffectKind::None { DATA_COLOR } else { MISMATCH_COLOR }));
+    ui.label(RichText::new(headline).strong().size(15.0).color(colour));
     egui::Grid::new("diagnosis-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
         let window = r.mismatch.as_ref().map_or("none beyond the noise".to_string(), |m| {
             format!("{:.2} s to {:.2} s of the recording ({:.2} px rms there)", m.start_s, m.end_s, m.rms_px)
         });
         row(ui, "mismatch", window);
-        let noise_from = if r.noise_from_marks { "from the marks" } else { "from the fit" };
+        let noise_from = if r.noise_from_marks { "from the tracks" } else { "from the fit" };
         row(ui, "pixel noise", format!("{:.3} px ({noise_from})", r.noise_px));
-        let ratio = r.before.rms_px / r.after.rms_px.max(1e-12);
-        row(ui, "misfit", format!("{:.3} px -> {:.3} px ({ratio:.1}x lower)", r.before.rms_px, r.after.rms_px));
+        row(ui, "glitches", format!("{} mark positions left out", r.glitches.len()));
+        row(ui, "misfit", format!("{:.3} px -> {:.3} px", r.before.rms_px, r.after.rms_px));
+        row(ui, "beyond the noise", format!("{:.3} px -> {:.3} px", r.excess_px(r.before.rms_px), r.excess_px(r.after.rms_px)));
         if let Some((v, s)) = r.after.strength {
             row(ui, r.after.effect.parameter(), pm(v, s));
         }
@@ -140,7 +147,7 @@ fn candidates_ui(ui: &mut egui::Ui, r: &Diagnosis) {
         ui.end_row();
         for c in &r.candidates {
             let name = RichText::new(c.effect.name()).small();
-            ui.label(if c.effect == r.left_out { name.strong() } else { name });
+            ui.label(if r.finding.named().contains(&c.effect) { name.strong() } else { name });
             ui.label(RichText::new(format!("{:.3}", c.rms_px)).small());
             ui.label(RichText::new(format!("{:+.1}", c.delta_score)).small());
             let s = match (&c.error, c.strength) {

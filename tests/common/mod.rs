@@ -1,5 +1,6 @@
-//! Shared test helpers: the independent reference solution in `../shared/data`, the binary
-//! run with arguments, a file as the window system drops it.
+//! Shared test helpers: the test data in `tests/data` (the independent reference solution,
+//! the sample recording and its truth, the independent simulator's recordings), the binary run
+//! with arguments, a file as the window system drops it.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -35,10 +36,11 @@ impl eframe::egui::DroppedFile for Dropped {
     }
 }
 
-/// `../shared/data/NAME` beside the repository (CI clones ringlab beside `shared/`).
-pub fn shared_data(name: &str) -> PathBuf {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data").join(name);
-    assert!(p.is_file(), "{} not found: ringlab must be checked out beside ../shared", p.display());
+/// `tests/data/NAME` in the repository (copies of the project's shared data, so that a clone
+/// anywhere tests on its own).
+pub fn test_data(name: &str) -> PathBuf {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+    assert!(p.is_file(), "{} not found", p.display());
     p
 }
 
@@ -50,7 +52,7 @@ pub struct Reference {
 
 impl Reference {
     pub fn load() -> Reference {
-        let text = std::fs::read_to_string(shared_data("paper-ring-reference.csv")).expect("readable reference");
+        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable reference");
         let mut lines = text.lines().filter(|l| !l.starts_with('#'));
         let columns: Vec<String> = lines.next().expect("header").split(',').map(|s| s.trim().to_string()).collect();
         let rows = lines
@@ -67,7 +69,7 @@ impl Reference {
 
     /// The end time stated in the file's second comment line.
     pub fn end_time(&self) -> f64 {
-        let text = std::fs::read_to_string(shared_data("paper-ring-reference.csv")).expect("readable");
+        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable");
         let line = text.lines().find(|l| l.contains("run ends")).expect("end line");
         line.rsplit("t=").next().expect("t=").trim().parse().expect("end time")
     }

@@ -1,4 +1,4 @@
-//! The sample recording's truth (`../shared/data/sample-ring.truth.json`), regenerated with
+//! The sample recording's truth (`tests/data/sample-ring.truth.json`), regenerated with
 //! the physics core: the model at every frame.
 #![allow(dead_code)]
 
@@ -20,7 +20,7 @@ fn num(v: &Value, key: &str) -> f64 {
 }
 
 pub fn load() -> Truth {
-    let path = super::common::shared_data("sample-ring.truth.json");
+    let path = super::common::test_data("sample-ring.truth.json");
     let json: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("truth readable")).expect("truth is JSON");
     let g = 1.025 * 4.5 * 4.5 / 20.2;
     let units = Units::dimensionless(20.16, g);

@@ -65,6 +65,15 @@ pub fn blind_start(kind: EffectKind, mu_max: f64) -> Option<f64> {
     (kind == EffectKind::Slip).then(|| (lo * hi).sqrt().min(0.9 * mu_max))
 }
 
+/// The effect's free numbers at `strength` (the camera's tilt starts level).
+pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
+    match kind {
+        EffectKind::None => Vec::new(),
+        EffectKind::CameraPerspective => vec![strength, 0.0],
+        _ => vec![strength],
+    }
+}
+
 /// The largest `mu` the sliding contact allows for this body (`slip.rs`).
 pub fn mu_limit(sh: &Shooting) -> f64 {
     painleve_mu_limit(&sh.spec.base)
@@ -100,7 +109,7 @@ pub fn fit_candidate(
     let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = join.segments.clone();
     let trials = trial_strengths(kind, mu_max);
-    let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain([s]).collect()).collect();
+    let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect()).collect();
     let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
     let best = (0..trials.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
     let segments = sh.segments.len();
@@ -108,7 +117,7 @@ pub fn fit_candidate(
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
     let mut starts = vec![globals[best].clone()];
     if let Some(mid) = blind_start(kind, mu_max).filter(|&m| m != trials[best]) {
-        starts.push(join.global.iter().copied().chain([mid]).collect());
+        starts.push(join.global.iter().copied().chain(effect_start(kind, mid)).collect());
     }
     let mut first: Option<lm::LmSolution> = None;
     for g in starts {
@@ -149,11 +158,9 @@ fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
 fn single_segment<'a>(ms: &Shooting<'a>, kind: EffectKind, from: &WholeFit, strength: f64) -> (Shooting<'a>, Vec<f64>) {
     let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = vec![from.span.clone()];
-    let own = from.internal.len() - usize::from(from.kind != EffectKind::None);
+    let own = from.internal.len() - from.kind.free_count();
     let mut g = from.internal[..own].to_vec();
-    if kind != EffectKind::None {
-        g.push(strength);
-    }
+    g.extend(effect_start(kind, strength));
     (sh, g)
 }
 

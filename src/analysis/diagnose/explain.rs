@@ -1,7 +1,8 @@
 //! The diagnosis in plain words: what was left out, how the mismatch's signature points to
 //! it, and the fitted parameter; numbers from the diagnosis itself.
 
-use super::result::{Diagnosis, ModelFit, Signature};
+use super::result::{Diagnosis, Finding, ModelFit, Signature};
+use super::run::{CONSISTENT_RATIO, MIN_EXPLAINED, explained_share};
 use crate::physics::effects::EffectKind;
 use std::fmt::Write;
 
@@ -15,6 +16,7 @@ pub fn describe(kind: EffectKind) -> &'static str {
         EffectKind::Slip => "slipping at the contact: the ring slides where rolling would need more friction than the table gives",
         EffectKind::TranslationalDrag => "air drag on the travel of the ring (on its centre of mass), not only on its rotation",
         EffectKind::CameraDistortion => "the camera's radial lens distortion (a measurement effect; the physics is unchanged)",
+        EffectKind::CameraPerspective => "the camera's perspective: a pinhole at a finite distance, perhaps tilted, sees marks above the table magnified (a measurement effect)",
     }
 }
 
@@ -116,6 +118,14 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
             100.0 * s.radial_share,
             100.0 * s.change_radial_share
         ),
+        EffectKind::CameraPerspective => {
+            let distance = if strength > 0.0 { format!("{:.0} mm", 1000.0 / strength) } else { "far".into() };
+            let tilt = d.after.tilt_deg.map_or(String::new(), |(t, s)| format!(", tilted {} degrees from the vertical", pm(t, s)));
+            format!(
+                "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.",
+                100.0 * s.radial_share
+            )
+        }
         EffectKind::None => String::new(),
     }
 }
@@ -138,68 +148,117 @@ fn fitted(f: &ModelFit) -> String {
     format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]))
 }
 
+/// The noise in words.
+fn noise_words(d: &Diagnosis) -> String {
+    let source = if d.noise_from_marks {
+        "the recording's pixel noise, estimated from each mark's track alone"
+    } else {
+        "the baseline's segment misfit; the tracks gave no noise estimate"
+    };
+    let glitches = match d.glitches.len() {
+        0 => String::new(),
+        n => format!("; {n} tracked position{} left out as the tracker's glitches", if n == 1 { "" } else { "s" }),
+    };
+    format!("{:.3} px ({source}{glitches})", d.noise_px)
+}
+
+/// The consistency test, in words.
+fn consistency_words(d: &Diagnosis) -> String {
+    let ratio = d.before.rms_px / d.noise_px.max(1e-12);
+    format!(
+        "The baseline misses by {:.3} px rms over the coordinates kept, {ratio:.2} times the noise; it counts as consistent with the noise up to {CONSISTENT_RATIO} times (an excess over the noise of {:.3} px here, {:.3} px allowed).",
+        d.before.rms_px,
+        d.excess_px(d.before.rms_px),
+        d.excess_px(CONSISTENT_RATIO * d.noise_px)
+    )
+}
+
+/// The best candidate against the naming rules, in words.
+fn runner_up_words(d: &Diagnosis, c: &super::result::Candidate) -> String {
+    let share = explained_share(d.before.rms_px, c.rms_px, d.noise_px);
+    if c.delta_score < -d.evidence {
+        format!(
+            " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the misfit beyond the noise, and an effect must explain at least {:.0}% to be named.",
+            c.effect,
+            c.delta_score,
+            c.rms_px,
+            100.0 * share,
+            100.0 * MIN_EXPLAINED
+        )
+    } else {
+        format!(
+            " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
+            c.effect, c.rms_px, c.delta_score, d.evidence
+        )
+    }
+}
+
 /// The explanation of a finished diagnosis (everything but the explanation filled in).
 pub fn explain(d: &Diagnosis) -> String {
     let mut out = String::new();
-    let noise = format!(
-        "{:.3} px{}",
-        d.noise_px,
-        if d.noise_from_marks { " (the recording's pixel noise, estimated from the marks)" } else { " (the baseline's segment misfit; the marks gave no noise estimate)" }
-    );
-    let runner_up = d.candidates.iter().find(|c| c.effect != d.left_out && c.effect != EffectKind::None);
+    let noise = noise_words(d);
+    let named = d.finding.named();
+    let runner_up = d.candidates.iter().find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None);
     let where_ = match &d.mismatch {
-        Some(m) => format!(
-            "Mismatch: {:.2} s to {:.2} s. {}",
-            m.start_s,
-            m.end_s,
-            departure_words(d)
-        ),
+        Some(m) => format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d)),
         None => "The baseline follows the recording within its noise over the whole run.".to_string(),
     };
-    if d.left_out == EffectKind::None {
-        if d.mismatch.is_none() {
+    match &d.finding {
+        Finding::Nothing => {
             let _ = write!(
                 out,
-                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {where_}",
-                d.before.rms_px
+                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {} {where_}",
+                d.before.rms_px,
+                consistency_words(d)
             );
-        } else {
-            let _ = write!(
-                out,
-                "None of the candidates explains this recording better than the paper's model, which misses it by {:.3} px rms over the whole run against a noise of {noise}. {where_} What is missing is none of the effects tried (the start state and the body's radius and width were fitted with every model); look at the trace and the residual for its signature.",
-                d.before.rms_px
-            );
-        }
-        if let Some(c) = runner_up {
-            let share = super::run::explained_share(d.before.rms_px, c.rms_px, d.noise_px);
-            if c.delta_score < -d.evidence {
-                let _ = write!(
-                    out,
-                    " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the misfit beyond the noise, and an effect must explain at least {:.0}% to be named.",
-                    c.effect,
-                    c.delta_score,
-                    c.rms_px,
-                    100.0 * share,
-                    100.0 * super::run::MIN_EXPLAINED
-                );
-            } else {
-                let _ = write!(
-                    out,
-                    " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
-                    c.effect, c.rms_px, c.delta_score, d.evidence
-                );
+            if let Some(c) = runner_up {
+                out.push_str(&runner_up_words(d, c));
             }
+            let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
+            return out;
         }
-        let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
-        return out;
+        Finding::Unexplained { partial } => {
+            let _ = write!(
+                out,
+                "Something was left out that none of the candidates explains. The paper's model misses the recording by {:.3} px rms over the whole run against a noise of {noise}: an excess of {:.3} px beyond the noise. {} {where_} {}",
+                d.before.rms_px,
+                d.excess_px(d.before.rms_px),
+                consistency_words(d),
+                residual_words(d)
+            );
+            match partial {
+                Some((k, share)) => {
+                    let _ = write!(
+                        out,
+                        " The best partial candidate is {k}: it explains {:.0}% of the squared misfit beyond the noise ({:.0}% is needed to name it), so it is at most part of the answer.",
+                        100.0 * share,
+                        100.0 * MIN_EXPLAINED
+                    );
+                }
+                None => out.push_str(" No candidate explains any of it."),
+            }
+            if let Some(c) = runner_up {
+                out.push_str(&runner_up_words(d, c));
+            }
+            let _ = write!(
+                out,
+                " The start state and the body's radius and width were fitted with every model; what is missing is none of the effects tried (or not one of them alone). Fitted: {}.{}",
+                fitted(&d.before),
+                body_words(d)
+            );
+            return out;
+        }
+        Finding::Named(_) => {}
     }
-    let kind = d.left_out;
-    let ratio = d.before.rms_px / d.after.rms_px.max(1e-12);
-    let _ = write!(out, "Left out: {}. ", describe(kind));
+    let kind = d.finding.first();
+    let excess_before = d.excess_px(d.before.rms_px);
+    let excess_after = d.excess_px(d.after.rms_px);
+    let names: Vec<String> = named.iter().map(|k| describe(*k).to_string()).collect();
+    let _ = write!(out, "Left out: {}. ", names.join("; and "));
     let (value, sigma) = d.after.strength.unwrap_or((f64::NAN, f64::NAN));
     let _ = write!(
         out,
-        "With it ({} = {}) the misfit over the whole run falls from {:.3} px to {:.3} px rms ({ratio:.1}x lower; noise {noise}).",
+        "With it ({} = {}) the misfit over the whole run falls from {:.3} px to {:.3} px rms (noise {noise}); the excess over the noise from {excess_before:.3} px to {excess_after:.3} px.",
         kind.parameter(),
         pm(value, sigma),
         d.before.rms_px,
@@ -215,9 +274,35 @@ pub fn explain(d: &Diagnosis) -> String {
         }
     }
     let _ = write!(out, " {where_} {}", signature_words(kind, d));
-    if ratio < 2.0 {
-        let _ = write!(out, " The improvement is modest: the effect is near what {:.2} px of noise lets a recording show.", d.noise_px);
+    if d.after.rms_px > CONSISTENT_RATIO * d.noise_px {
+        let _ = write!(
+            out,
+            " It leaves an excess of {excess_after:.3} px beyond the noise ({:.2} times the noise in all): the effect is there, but the model of it is not the whole story (another law of the same effect, or something more left out).",
+            d.after.rms_px / d.noise_px.max(1e-12)
+        );
     }
     let _ = write!(out, " Fitted with it: {}.{}", fitted(&d.after), body_words(d));
     out
+}
+
+/// Where and how the baseline's residual departs, in words, for a finding no candidate names.
+fn residual_words(d: &Diagnosis) -> String {
+    let s = &d.signature;
+    let radial = if s.radial_share > 0.65 {
+        format!(" {:.0}% of its squared residual points along the radius from the image centre (50% is no preference): it depends on where the ring is in the image, as a camera's effects do.", 100.0 * s.radial_share)
+    } else if s.radial_share < 0.35 {
+        format!(" Only {:.0}% of its squared residual is radial from the image centre: it is across the radius, as a turn of the path is.", 100.0 * s.radial_share)
+    } else {
+        String::new()
+    };
+    let late = if s.late_share > 0.5 {
+        format!(" {:.0}% of the misfit beyond the noise lies in the last third of the run, where the ring slows.", 100.0 * s.late_share)
+    } else {
+        String::new()
+    };
+    format!("{}{late}{radial}{}", thirds_words(s), end_clause(s))
+}
+
+fn thirds_words(s: &Signature) -> String {
+    format!("By thirds of the run it misses by {}.", thirds(s))
 }

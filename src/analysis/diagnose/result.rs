@@ -5,6 +5,7 @@ use super::candidates::STAGE_CEILING;
 use crate::physics::effects::EffectKind;
 use crate::physics::{Initial, Model, Units};
 use crate::recording::Camera;
+use crate::recording::glitches::Glitch;
 
 /// A model fitted over the whole run from one start state (the diagnosis's misfit).
 #[derive(Clone, Debug)]
@@ -23,6 +24,8 @@ pub struct ModelFit {
     pub c_sigma: [f64; 3],
     /// The effect's strength and its one-sigma uncertainty (infinite where unconstrained).
     pub strength: Option<(f64, f64)>,
+    /// The camera's tilt (degrees) and its sigma, where it was fitted.
+    pub tilt_deg: Option<(f64, f64)>,
     /// The body's outer radius and width as fitted (mm), with their sigmas.
     pub body_mm: [(f64, f64); 2],
     /// The start state at the first fitted frame and its time (s).
@@ -132,21 +135,62 @@ pub struct Signature {
     pub slides_s: Vec<(f64, f64)>,
 }
 
+/// What a diagnosis concludes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Finding {
+    /// The baseline is consistent with the noise: nothing this recording can show is missing.
+    Nothing,
+    /// These effects were left out, in the order they were named (each earned its BIC and
+    /// explained most of the misfit beyond the noise that was left).
+    Named(Vec<EffectKind>),
+    /// The baseline misses by more than the noise and no candidate explains most of it; the
+    /// candidate that explains the largest share of the excess (over `before^2 - noise^2`),
+    /// where one explains any.
+    Unexplained { partial: Option<(EffectKind, f64)> },
+}
+
+impl Finding {
+    /// `none`, `unexplained`, or the first effect named.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Finding::Nothing => "none",
+            Finding::Unexplained { .. } => "unexplained",
+            Finding::Named(k) => k.first().map_or("none", |k| k.name()),
+        }
+    }
+
+    /// The effects named, in order (empty unless some were).
+    pub fn named(&self) -> &[EffectKind] {
+        match self {
+            Finding::Named(k) => k,
+            _ => &[],
+        }
+    }
+
+    /// The first effect named, `EffectKind::None` otherwise.
+    pub fn first(&self) -> EffectKind {
+        self.named().first().copied().unwrap_or(EffectKind::None)
+    }
+}
+
 /// Everything a diagnosis found.
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
-    /// The physics (or measurement) the baseline left out, `None` if nothing earns its keep.
-    pub left_out: EffectKind,
+    /// What the baseline left out: nothing, some effects, or something no candidate explains.
+    pub finding: Finding,
     /// The mismatch: from where the baseline stops following the recording within its noise
     /// (fitted to the stretch before) to the last window where it departs; None if it never does.
     pub mismatch: Option<MismatchWindow>,
     /// The windows where that baseline departs beyond the noise (joined where close).
     pub windows: Vec<MismatchWindow>,
-    /// The recording's pixel noise, estimated from the marks alone (or, failing that, the
-    /// baseline's multiple-shooting misfit: `noise_from_marks` false).
+    /// The recording's pixel noise per coordinate, estimated from each mark's track alone
+    /// (`recording::noise`; failing that, the baseline's multiple-shooting misfit:
+    /// `noise_from_marks` false).
     pub noise_px: f64,
     pub noise_from_marks: bool,
-    /// The baseline and the chosen model on the same misfit (the same when `left_out` is none).
+    /// The tracker's glitches left out of every fit (`recording::glitches`).
+    pub glitches: Vec<Glitch>,
+    /// The baseline and the chosen model on the same misfit (the same unless effects were named).
     pub before: ModelFit,
     pub after: ModelFit,
     /// Every candidate and the baseline, best score first.
@@ -170,4 +214,11 @@ pub struct Diagnosis {
     /// the departure beside it, the candidates, the rest.
     pub stage_seconds: Vec<(&'static str, f64)>,
     pub compute_seconds: f64,
+}
+
+impl Diagnosis {
+    /// The part of a misfit beyond this recording's noise (px): `sqrt(max(rms^2 - noise^2, 0))`.
+    pub fn excess_px(&self, rms_px: f64) -> f64 {
+        super::run::excess_px(rms_px, self.noise_px)
+    }
 }

@@ -31,6 +31,8 @@ pub struct WholeFit {
     pub c_sigma: [f64; 3],
     /// The effect's strength and its sigma (infinite where the data do not constrain it).
     pub strength: Option<(f64, f64)>,
+    /// The camera's tilt (degrees) and its sigma, where it was fitted (`camera_perspective`).
+    pub tilt_deg: Option<(f64, f64)>,
     /// The body's outer radius and width (model units) and their sigmas.
     pub body: [(f64, f64); 2],
     /// The start state at the first frame of `span` (model units).
@@ -45,7 +47,7 @@ pub struct WholeFit {
     pub model: Model,
     pub camera: Camera,
     pub iterations: usize,
-    /// The internal parameters (`ln C`, strength): where a refit can start.
+    /// The internal parameters (`ln C`, the body, the effect's numbers): where a refit can start.
     pub internal: Vec<f64>,
     /// Time this fit took (s), its path included.
     pub seconds: f64,
@@ -67,7 +69,7 @@ impl WholeFit {
 
     /// The predicted marks at the span's frames (px), on the marks' circle of this fit's body.
     pub fn marks(&self, sh: &Shooting) -> Option<PredictedMarks> {
-        let geometry = MarkGeometry { radius: mark_radius(&self.model.body), order: sh.geometry.order };
+        let geometry = MarkGeometry { radius: mark_radius(&self.model.body), r_outer: self.model.body.r, h: self.model.body.h, order: sh.geometry.order };
         Some(self.samples(sh)?.iter().map(|s| sh.project(&geometry, &self.camera, s)).collect())
     }
 }
@@ -81,6 +83,9 @@ pub fn with_effect<'a>(ms: &Shooting<'a>, kind: EffectKind) -> Shooting<'a> {
     free.extend([Free::Body(0), Free::Body(1)]);
     if kind != EffectKind::None {
         free.push(Free::Effect(kind));
+    }
+    if kind == EffectKind::CameraPerspective {
+        free.push(Free::CameraTilt);
     }
     let strength_range = (kind != EffectKind::None).then(|| search_range(kind, painleve_mu_limit(&ms.spec.base)));
     Shooting { spec: ModelSpec { free, strength_range, ..ms.spec.clone() }, ..ms.clone() }
@@ -99,6 +104,8 @@ pub fn search_range(kind: EffectKind, mu_max: f64) -> (f64, f64) {
             let m = 4.0 * lo.abs().max(hi.abs());
             (-m, m)
         }
+        // Down to 100 mm from the table (2.5 ring diameters), up to orthographic.
+        EffectKind::CameraPerspective => (0.0, 10.0),
         _ => (0.0, 4.0 * hi),
     }
 }
@@ -222,6 +229,7 @@ pub fn fit_path(
         c: [values[0], values[1], values[2]],
         c_sigma: [sigma(0), sigma(1), sigma(2)],
         strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
+        tilt_deg: at(Free::CameraTilt).map(|_| value(Free::CameraTilt, 0.0)),
         body: [value(Free::Body(0), model.body.r), value(Free::Body(1), model.body.h)],
         start,
         span: sh.segments[0].clone(),

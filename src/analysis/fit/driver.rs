@@ -12,6 +12,8 @@ use crate::physics::run::RunError;
 use crate::physics::{Initial, Model, ParamError, RunOptions, RunSummary, Sample, Simulation, StateVec, TurnKind, Units};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::recover::{RecoverError, RecoveredMotion, recover_with};
+use crate::recording::glitches::Glitch;
+use crate::recording::tracks::{as_tracked, check_tracks};
 use crate::recording::{Camera, FrameMarks, Recording};
 use nalgebra::Vector3;
 use std::ops::Range;
@@ -42,6 +44,9 @@ pub struct FitOptions {
     pub lens_k1: f64,
     pub tolerances: Tolerances,
     pub max_iterations: usize,
+    /// Leave the tracker's glitches out (`recording::glitches`); off where the caller has
+    /// already done so.
+    pub leave_out_glitches: bool,
 }
 
 impl Default for FitOptions {
@@ -56,6 +61,7 @@ impl Default for FitOptions {
             lens_k1: 0.0,
             tolerances: Tolerances { rtol: 1e-10, atol: 1e-12 },
             max_iterations: 30,
+            leave_out_glitches: true,
         }
     }
 }
@@ -140,7 +146,10 @@ pub struct FitResult {
     /// Frames fitted: from the start to the still end (the still frames show only the pose
     /// in which the ring landed, which the model's flat limit gives to a frame at best).
     pub frames_fitted: usize,
+    /// The pixel noise per coordinate from the marks' tracks alone (`recording::noise`).
     pub noise_px: Option<f64>,
+    /// The tracker's glitches left out of the fit.
+    pub glitches: Vec<Glitch>,
     pub segments: Vec<Range<usize>>,
     pub segment_states: Vec<StateVec>,
     pub coarse_c: Option<[f64; 3]>,
@@ -204,6 +213,8 @@ pub fn fit(
         return Err(FitError::Options(format!("segments of {} frames are too short (10 at least)", opts.segment_frames)));
     }
     report(FitStage::Recover, 0, 1, None);
+    let tracks = if opts.leave_out_glitches { check_tracks(rec) } else { as_tracked(rec) };
+    let rec = &tracks.recording;
     let camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
     let motion = recover_with(rec, camera)?;
     check()?;
@@ -244,7 +255,7 @@ pub fn fit(
         dt,
         spec,
         run: RunOptions { tol: opts.tolerances, theta_flat: FIT_THETA_FLAT, ..RunOptions::default() },
-        geometry: MarkGeometry { radius: motion.geometry_mm.radius * to_model.length, order: motion.geometry_mm.order },
+        geometry: motion.geometry_mm.scaled(to_model.length),
         length_mm: 1.0 / to_model.length,
         budget: None,
     };
@@ -352,7 +363,8 @@ pub fn fit(
         parameter_count: params,
         frames: n,
         frames_fitted: moving_end - f0,
-        noise_px: motion.noise_px,
+        noise_px: tracks.noise.map(|n| n.px),
+        glitches: tracks.glitches,
         segments: shooting.segments.clone(),
         segment_states,
         coarse_c,

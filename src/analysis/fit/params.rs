@@ -4,7 +4,9 @@
 //! in `ln C` is a relative change), and so are the body's dimensions where they are free (the
 //! diagnosis: a header's caliper readings are measurements too). An effect's strength
 //! (`physics::effects`) is fitted as it is, so that it can start at, and come out as, zero;
-//! `camera_distortion` sets the camera's `k1`, every other effect the physics.
+//! `camera_distortion` sets the camera's `k1`, `camera_perspective` its distance (strength
+//! `1000 mm / D`, 0 orthographic) with the tilt a number of its own, every other effect the
+//! physics.
 
 use crate::physics::effects::{self, EffectKind};
 use crate::physics::Model;
@@ -19,7 +21,13 @@ pub enum Free {
     Effect(EffectKind),
     /// A dimension of the body (model units): 0 the outer radius `R`, 1 the width `h`.
     Body(usize),
+    /// The camera's tilt from the vertical (degrees), beside `camera_perspective`'s distance.
+    CameraTilt,
 }
+
+/// The largest camera tilt a fit may try (degrees): beyond, a lab would not call the camera
+/// one that looks down on the table.
+pub const MAX_FITTED_TILT_DEG: f64 = 30.0;
 
 impl Free {
     pub fn name(&self) -> String {
@@ -28,6 +36,7 @@ impl Free {
             Free::Effect(k) => format!("{k} strength"),
             Free::Body(0) => "R".into(),
             Free::Body(_) => "h".into(),
+            Free::CameraTilt => "camera tilt (deg)".into(),
         }
     }
 }
@@ -53,7 +62,7 @@ impl ModelSpec {
             .zip(values)
             .map(|(f, v)| match f {
                 Free::Drag(_) | Free::Body(_) => v.max(1e-12).ln(),
-                Free::Effect(_) => *v,
+                Free::Effect(_) | Free::CameraTilt => *v,
             })
             .collect()
     }
@@ -65,7 +74,7 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) => *x,
+                Free::Effect(_) | Free::CameraTilt => *x,
             })
             .collect()
     }
@@ -77,7 +86,7 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) => 1.0,
+                Free::Effect(_) | Free::CameraTilt => 1.0,
             })
             .collect()
     }
@@ -89,7 +98,9 @@ impl ModelSpec {
             .map(|f| match f {
                 Free::Drag(i) => self.base.c_drag[*i],
                 Free::Effect(EffectKind::CameraDistortion) => self.camera.k1,
+                Free::Effect(EffectKind::CameraPerspective) => self.camera.distance_mm.map_or(0.0, |d| 1000.0 / d),
                 Free::Effect(_) => 0.0,
+                Free::CameraTilt => self.camera.tilt_rad.to_degrees(),
                 Free::Body(0) => self.base.body.r,
                 Free::Body(_) => self.base.body.h,
             })
@@ -129,6 +140,18 @@ impl ModelSpec {
                     }
                     camera.k1 = v;
                 }
+                Free::Effect(EffectKind::CameraPerspective) => {
+                    if v < 0.0 || self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                        return None;
+                    }
+                    camera.distance_mm = (v > 0.0).then(|| 1000.0 / v);
+                }
+                Free::CameraTilt => {
+                    if v.abs() > MAX_FITTED_TILT_DEG {
+                        return None;
+                    }
+                    camera.tilt_rad = v.to_radians();
+                }
                 Free::Effect(kind) => {
                     if self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
                         return None;
@@ -151,6 +174,7 @@ impl ModelSpec {
         match self.free[i] {
             Free::Drag(_) | Free::Body(_) => 1e-6,
             Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
+            Free::CameraTilt => 1e-5,
         }
     }
 }

@@ -10,7 +10,7 @@ use super::params::ModelSpec;
 use super::lm::BlockProblem;
 use crate::physics::model::{STATE_LEN, ix};
 use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
-use crate::recording::marks::{MarkGeometry, mark_radius};
+use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
 use std::ops::Range;
 use std::sync::Arc;
@@ -119,17 +119,24 @@ impl Shooting<'_> {
     /// dimensions are free.
     pub fn geometry_of(&self, model: &Model) -> MarkGeometry {
         if self.spec.body_free() {
-            MarkGeometry { radius: mark_radius(&model.body), order: self.geometry.order }
+            MarkGeometry::of_body(&model.body, self.geometry.order)
         } else {
             self.geometry
         }
     }
 
-    /// The marks' pixel positions for a sample.
+    /// The marks' pixel positions for a sample: at their heights above the table where the
+    /// camera sees heights (a pinhole or a tilted camera), else on the table (as before, to the
+    /// bit).
     #[inline]
     pub fn project(&self, geometry: &MarkGeometry, camera: &Camera, s: &Sample) -> [[f64; 2]; MARKS] {
+        let k = self.length_mm;
+        if camera.sees_height() {
+            let m = geometry.marks3([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
+            return m.map(|p| camera.to_px3(p[0] * k, p[1] * k, p[2] * k));
+        }
         let m = geometry.marks([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
-        m.map(|p| camera.to_px(p[0] * self.length_mm, p[1] * self.length_mm))
+        m.map(|p| camera.to_px(p[0] * k, p[1] * k))
     }
 
     /// The model's samples over segment `s` from `y0`, charged to the budget (None once it is

@@ -1,0 +1,33 @@
+//! What the marks' tracks say on their own, before any model: the pixel noise ([`noise`]) and
+//! the tracker's glitches ([`glitches`]), and the recording with the glitches left out, which
+//! is what every fit works on.
+
+use super::glitches::{Glitch, find_glitches, without_glitches};
+use super::noise::{NoiseEstimate, track_noise};
+use super::Recording;
+
+/// A recording with its glitches left out, the glitches, and the noise of what is left.
+#[derive(Clone, Debug)]
+pub struct CheckedTracks {
+    pub recording: Recording,
+    pub glitches: Vec<Glitch>,
+    pub noise: Option<NoiseEstimate>,
+}
+
+/// Finds the glitches (with the noise of all the positions; it is robust to them), leaves them
+/// out, and estimates the noise again without them.
+pub fn check_tracks(rec: &Recording) -> CheckedTracks {
+    let first = track_noise(&rec.frames, &|_, _| false);
+    let glitches = first.map_or_else(Vec::new, |n| find_glitches(&rec.frames, n.px));
+    if glitches.is_empty() {
+        return CheckedTracks { recording: rec.clone(), glitches, noise: first };
+    }
+    let frames = without_glitches(&rec.frames, &glitches);
+    let noise = track_noise(&frames, &|_, _| false).or(first);
+    CheckedTracks { recording: Recording { frames, ..rec.clone() }, glitches, noise }
+}
+
+/// The recording as it is, with the noise of its tracks (no glitch search).
+pub fn as_tracked(rec: &Recording) -> CheckedTracks {
+    CheckedTracks { recording: rec.clone(), glitches: Vec::new(), noise: track_noise(&rec.frames, &|_, _| false) }
+}
