@@ -53,6 +53,8 @@ pub struct DiagnoseJson {
     pub before: FitJson,
     pub after: FitJson,
     pub candidates: Vec<CandidateJson>,
+    /// The pairs of the forward selection, best first (empty when none were tried).
+    pub pairs: Vec<PairJson>,
     pub explanation: String,
     pub compute_seconds: f64,
     pub noise_px: f64,
@@ -60,6 +62,15 @@ pub struct DiagnoseJson {
     pub frames: usize,
     pub frames_fitted: usize,
     pub segments_rms_px: f64,
+}
+
+#[derive(Serialize, Debug)]
+pub struct PairJson {
+    pub names: [&'static str; 2],
+    pub rms_px: Option<f64>,
+    pub delta_score: Option<f64>,
+    pub strengths: [Option<f64>; 2],
+    pub error: Option<String>,
 }
 
 #[derive(Serialize, Debug)]
@@ -154,6 +165,17 @@ impl DiagnoseJson {
                     strength_sigma: c.strength.and_then(|s| finite(s.1)),
                     error: c.error.clone(),
                     stopped_at_segments: c.stopped_at_segments,
+                })
+                .collect(),
+            pairs: d
+                .pairs
+                .iter()
+                .map(|p| PairJson {
+                    names: [p.first.name(), p.second.name()],
+                    rms_px: finite(p.rms_px),
+                    delta_score: finite(p.delta_score),
+                    strengths: p.strengths.map(|s| finite(s.0)),
+                    error: p.error.clone(),
                 })
                 .collect(),
             explanation: d.explanation.clone(),
@@ -274,6 +296,16 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
             None => {
                 let stopped = c.stopped_note().map_or(String::new(), |n| format!("  ({n})"));
                 println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}{stopped}", c.effect.name(), c.rms_px, c.delta_score, c.seconds)
+            }
+        }
+    }
+    if !d.pairs.is_empty() {
+        println!("pairs (forward selection; BIC against the baseline):");
+        for p in &d.pairs {
+            let name = format!("{} + {}", p.first, p.second);
+            match &p.error {
+                Some(e) => println!("  {name:<36} failed: {e}"),
+                None => println!("  {name:<36} {:>9.3} px  {:>+10.1}  ({:.1} s)", p.rms_px, p.delta_score, p.seconds),
             }
         }
     }

@@ -13,7 +13,7 @@
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
 //! baseline is refitted from the baseline's solution.
 
-use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect};
+use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect, with_effects};
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
 use crate::physics::effects::EffectKind;
@@ -158,7 +158,7 @@ fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
 fn single_segment<'a>(ms: &Shooting<'a>, kind: EffectKind, from: &WholeFit, strength: f64) -> (Shooting<'a>, Vec<f64>) {
     let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = vec![from.span.clone()];
-    let own = from.internal.len() - from.kind.free_count();
+    let own = from.internal.len() - from.kind.free_count() - from.also.iter().map(|(k, _)| k.free_count()).sum::<usize>();
     let mut g = from.internal[..own].to_vec();
     g.extend(effect_start(kind, strength));
     (sh, g)
@@ -257,3 +257,35 @@ pub fn fit_candidates(
     Ok((baseline, candidates))
 }
 
+
+/// A pair of the forward selection: `first` (fitted alone as `first_fit`) and `second` (fitted
+/// alone as `second_fit`) together, on the baseline's path like a single candidate (see
+/// [`fit_candidate`]): from the baseline's first stage, with `first` at its own fitted strength
+/// and `second` at the best of its alone-fitted strength and its trial strengths, down to one
+/// segment. A stage that fits [`STAGE_CEILING`] times worse than the baseline's ends the path.
+pub fn fit_pair(
+    ms: &Shooting,
+    levels: &[Level],
+    first_fit: &WholeFit,
+    second_fit: &WholeFit,
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
+    let clock = std::time::Instant::now();
+    let (first, second) = (first_fit.kind, second_fit.kind);
+    let join = levels.first().ok_or(LmError::BadStart)?;
+    let ceiling = |segments: usize| levels.iter().find(|l| l.segments.len() == segments).map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost);
+    let mu_max = mu_limit(ms);
+    let mut sh = with_budget(with_effects(ms, &[first, second]));
+    sh.segments = join.segments.clone();
+    let own = |w: &WholeFit| w.internal[w.internal.len() - w.kind.free_count()..].to_vec();
+    let lead = own(first_fit);
+    let mut trials: Vec<Vec<f64>> = vec![own(second_fit)];
+    trials.extend(trial_strengths(second, mu_max).into_iter().map(|s| effect_start(second, s)));
+    let globals: Vec<Vec<f64>> = trials.iter().map(|t| join.global.iter().chain(&lead).chain(t).copied().collect()).collect();
+    let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
+    let best = (0..globals.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
+    let mut fit = fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration, cancel)?.0;
+    fit.seconds = clock.elapsed().as_secs_f64();
+    Ok(fit)
+}

@@ -75,7 +75,7 @@ fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
 /// Why the signature points to the named effect.
 fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     let s = &d.signature;
-    let strength = d.after.strength.map_or(f64::NAN, |x| x.0);
+    let strength = if d.after.effect == kind { d.after.strength } else { d.after.also.iter().find(|(k, _)| *k == kind).map(|x| x.1) }.map_or(f64::NAN, |x| x.0);
     let late = if s.late_share > 0.5 { format!(" {:.0}% of the whole-run misfit beyond the noise lies in the last third.", 100.0 * s.late_share) } else { String::new() };
     match kind {
         EffectKind::ReynoldsDrag => format!(
@@ -256,11 +256,13 @@ pub fn explain(d: &Diagnosis) -> String {
     let names: Vec<String> = named.iter().map(|k| describe(*k).to_string()).collect();
     let _ = write!(out, "Left out: {}. ", names.join("; and "));
     let (value, sigma) = d.after.strength.unwrap_or((f64::NAN, f64::NAN));
+    let mut values: Vec<String> = d.after.also.iter().map(|(k, (v, s))| format!("{} = {}", k.parameter(), pm(*v, *s))).collect();
+    values.push(format!("{} = {}", d.after.effect.parameter(), pm(value, sigma)));
     let _ = write!(
         out,
-        "With it ({} = {}) the misfit over the whole run falls from {:.3} px to {:.3} px rms (noise {noise}); the excess over the noise from {excess_before:.3} px to {excess_after:.3} px.",
-        kind.parameter(),
-        pm(value, sigma),
+        "With {} ({}) the misfit over the whole run falls from {:.3} px to {:.3} px rms (noise {noise}); the excess over the noise from {excess_before:.3} px to {excess_after:.3} px.",
+        if named.len() > 1 { "them" } else { "it" },
+        values.join(", "),
         d.before.rms_px,
         d.after.rms_px
     );

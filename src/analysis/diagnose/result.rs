@@ -26,6 +26,8 @@ pub struct ModelFit {
     pub strength: Option<(f64, f64)>,
     /// The camera's tilt (degrees) and its sigma, where it was fitted.
     pub tilt_deg: Option<(f64, f64)>,
+    /// Effects fitted beside `effect` (a pair's first), with their strengths and sigmas.
+    pub also: Vec<(EffectKind, (f64, f64))>,
     /// The body's outer radius and width as fitted (mm), with their sigmas.
     pub body_mm: [(f64, f64); 2],
     /// The start state at the first fitted frame and its time (s).
@@ -64,6 +66,19 @@ impl Candidate {
         self.stopped_at_segments
             .map(|n| format!("its fit over the whole run stopped at {n} segments, {STAGE_CEILING}x worse than the baseline there"))
     }
+}
+
+/// A pair of effects tried together after one was named (the forward selection).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairCandidate {
+    pub first: EffectKind,
+    pub second: EffectKind,
+    pub rms_px: f64,
+    /// Score minus the baseline's.
+    pub delta_score: f64,
+    pub strengths: [(f64, f64); 2],
+    pub error: Option<String>,
+    pub seconds: f64,
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
@@ -195,6 +210,8 @@ pub struct Diagnosis {
     pub after: ModelFit,
     /// Every candidate and the baseline, best score first.
     pub candidates: Vec<Candidate>,
+    /// The pairs tried after an effect was named (best score first; empty when none were).
+    pub pairs: Vec<PairCandidate>,
     /// The BIC drop an effect needed to be named.
     pub evidence: f64,
     /// The body's outer radius and width as the recording's header gives them (mm).

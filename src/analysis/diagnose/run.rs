@@ -1,11 +1,11 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::candidates::{fit_baseline, fit_candidates};
+use super::candidates::{fit_baseline, fit_candidates, fit_pair};
 use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
-use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, ResidualSeries, Signature, Trace};
+use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, PairCandidate, ModelFit, ResidualSeries, Signature, Trace};
 use super::signature::{measure, run_end};
 use super::whole::WholeFit;
 use crate::analysis::fit::lm::LmError;
@@ -182,8 +182,52 @@ pub fn diagnose(
         });
     }
     ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
-    let (finding, chosen) = decide(&baseline, &ranked, noise_px, opts.evidence);
-    let chosen = chosen.unwrap_or(&baseline);
+    let (mut finding, chosen) = decide(&baseline, &ranked, noise_px, opts.evidence);
+    let mut chosen = chosen.unwrap_or(&baseline);
+    // Forward selection: a named effect that leaves the misfit beyond the noise tried beside
+    // the other candidates that improved on the baseline.
+    let pair_fits = if chosen.kind != EffectKind::None && chosen.rms_px() > CONSISTENT_RATIO * noise_px {
+        progress(&DiagnoseProgress { stage: DiagnoseStage::Candidates, fraction: 0.95, message: "pairs of effects".into() });
+        pairs_stage(&ms, &levels, &ranked, cancel)?
+    } else {
+        Vec::new()
+    };
+    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let best_pair = pair_fits.iter().filter_map(|(_, _, r)| r.as_ref().ok()).min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
+    if let Some(p) = best_pair
+        && pair_score(p) < score(chosen) - opts.evidence
+        && explained_share(chosen.rms_px(), p.rms_px(), noise_px) >= MIN_EXPLAINED
+    {
+        finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
+        chosen = p;
+    }
+    let pairs: Vec<PairCandidate> = {
+        let mut v: Vec<PairCandidate> = pair_fits
+            .iter()
+            .map(|(a, b, r)| match r {
+                Ok(w) => PairCandidate {
+                    first: *a,
+                    second: *b,
+                    rms_px: w.rms_px(),
+                    delta_score: pair_score(w) - none_score,
+                    strengths: [w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1), w.strength.unwrap_or((f64::NAN, f64::NAN))],
+                    error: None,
+                    seconds: w.seconds,
+                },
+                Err(e) => PairCandidate {
+                    first: *a,
+                    second: *b,
+                    rms_px: f64::NAN,
+                    delta_score: f64::INFINITY,
+                    strengths: [(f64::NAN, f64::NAN); 2],
+                    error: Some(e.to_string()),
+                    seconds: 0.0,
+                },
+            })
+            .collect();
+        v.sort_by(|a, b| a.delta_score.total_cmp(&b.delta_score));
+        v
+    };
 
     let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
     let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
@@ -244,6 +288,7 @@ pub fn diagnose(
         c_sigma: w.c_sigma,
         strength: w.strength,
         tilt_deg: w.tilt_deg,
+        also: w.also.clone(),
         body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
         start: Initial::from_state(&w.start),
         start_s: time_s(w.span.start as f64),
@@ -262,6 +307,7 @@ pub fn diagnose(
         before: model_fit(&baseline, signature.end_before_s),
         after: model_fit(chosen, signature.end_after_s),
         candidates: ranked.into_iter().map(|(c, _)| c).collect(),
+        pairs,
         evidence: opts.evidence,
         header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
         residuals,
@@ -336,6 +382,46 @@ fn mismatch_windows(
     let last_before = departures(wins_before).last().map(|(r, _)| r.end);
     let end = found.last().map(|r| r.end).into_iter().chain(last_before).max().unwrap_or(before.len()).max(from + 1).min(sums.len().min(before.len()));
     (Some(window(from..end)), found.into_iter().map(window).collect())
+}
+
+/// How many of the best single candidates (by BIC, better than the baseline) the forward
+/// selection pairs with each other: three give three pairs, fitted in parallel. Pairs among the
+/// best few and not only with the one named: where two effects are in a recording, the one
+/// named alone is often a third that imitates both (Reynolds drag and pivot friction together
+/// are named rolling friction alone).
+const PAIRED: usize = 3;
+
+/// The pairs of the forward selection: every pair among the [`PAIRED`] best single candidates,
+/// the better one first, each fitted on the baseline's path.
+fn pairs_stage(
+    ms: &Shooting,
+    levels: &[super::whole::Level],
+    ranked: &[(Candidate, Option<&WholeFit>)],
+    cancel: &AtomicBool,
+) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
+    let singles: Vec<&WholeFit> = ranked
+        .iter()
+        .filter(|(c, w)| c.effect != EffectKind::None && c.delta_score < 0.0 && w.is_some_and(|w| w.stopped_at.is_none()))
+        .filter_map(|(_, w)| *w)
+        .take(PAIRED)
+        .collect();
+    let mut todo = Vec::new();
+    for i in 0..singles.len() {
+        for j in i + 1..singles.len() {
+            // One camera effect of each kind at most, and the pinhole's tilt once.
+            if singles[i].kind.is_camera() && singles[j].kind.is_camera() {
+                continue;
+            }
+            todo.push((singles[i], singles[j]));
+        }
+    }
+    use rayon::prelude::*;
+    let out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> =
+        todo.par_iter().map(|(a, b)| (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel))).collect();
+    if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
+        return Err(DiagnoseError::Cancelled);
+    }
+    Ok(out)
 }
 
 /// The candidates along the baseline's path, with progress.

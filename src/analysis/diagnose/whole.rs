@@ -25,8 +25,10 @@ const FINAL_REL_TOL: f64 = 1e-5;
 /// A model fitted to the whole run from one state.
 #[derive(Clone, Debug)]
 pub struct WholeFit {
-    /// The effect fitted (`None` for the baseline).
+    /// The effect fitted (`None` for the baseline; the last one added for a pair).
     pub kind: EffectKind,
+    /// Effects fitted beside it, before it (a pair's first), with their strengths and sigmas.
+    pub also: Vec<(EffectKind, (f64, f64))>,
     pub c: [f64; 3],
     pub c_sigma: [f64; 3],
     /// The effect's strength and its sigma (infinite where the data do not constrain it).
@@ -79,16 +81,24 @@ impl WholeFit {
 /// caliper readings: over a whole run a width off by 1.5% (the sample's header says 18 mm of a
 /// 17.74 mm ring) misses by 3 px, a misfit that an effect would otherwise be named for.
 pub fn with_effect<'a>(ms: &Shooting<'a>, kind: EffectKind) -> Shooting<'a> {
+    with_effects(ms, &[kind])
+}
+
+/// [`with_effect`] for several effects at once, their numbers in the order given (a pair of
+/// the forward selection: the effect named first, then the one tried beside it).
+pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a> {
     let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
     free.extend([Free::Body(0), Free::Body(1)]);
-    if kind != EffectKind::None {
+    let mu_max = painleve_mu_limit(&ms.spec.base);
+    let mut strength_ranges = Vec::new();
+    for &kind in kinds.iter().filter(|&&k| k != EffectKind::None) {
         free.push(Free::Effect(kind));
+        if kind == EffectKind::CameraPerspective {
+            free.push(Free::CameraTilt);
+        }
+        strength_ranges.push((kind, search_range(kind, mu_max)));
     }
-    if kind == EffectKind::CameraPerspective {
-        free.push(Free::CameraTilt);
-    }
-    let strength_range = (kind != EffectKind::None).then(|| search_range(kind, painleve_mu_limit(&ms.spec.base)));
-    Shooting { spec: ModelSpec { free, strength_range, ..ms.spec.clone() }, ..ms.clone() }
+    Shooting { spec: ModelSpec { free, strength_ranges, ..ms.spec.clone() }, ..ms.clone() }
 }
 
 /// Where the diagnosis looks for an effect's strength: from its baseline strength (zero; the
@@ -163,7 +173,8 @@ pub fn fit_path(
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
     let clock = std::time::Instant::now();
-    let kind = sh.spec.free.iter().find_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None }).unwrap_or(EffectKind::None);
+    let kinds: Vec<EffectKind> = sh.spec.free.iter().filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None }).collect();
+    let kind = kinds.last().copied().unwrap_or(EffectKind::None);
     let mut sh = sh.clone();
     let mut global = global;
     let mut locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
@@ -230,6 +241,7 @@ pub fn fit_path(
         c_sigma: [sigma(0), sigma(1), sigma(2)],
         strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
         tilt_deg: at(Free::CameraTilt).map(|_| value(Free::CameraTilt, 0.0)),
+        also: kinds[..kinds.len().saturating_sub(1)].iter().map(|&k| (k, value(Free::Effect(k), f64::NAN))).collect(),
         body: [value(Free::Body(0), model.body.r), value(Free::Body(1), model.body.h)],
         start,
         span: sh.segments[0].clone(),

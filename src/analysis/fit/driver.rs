@@ -178,7 +178,7 @@ impl FitResult {
             observed,
             segments: self.segments.clone(),
             dt: self.dt,
-            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start, strength_range: None },
+            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start, strength_ranges: Vec::new() },
             run: self.run.clone(),
             geometry: self.geometry,
             length_mm: self.units.length_mm,
@@ -248,7 +248,7 @@ pub fn fit(
         free.push(Free::Effect(kind));
     }
     let re_start = Sample::new(&base, 0.0, &y0).reynolds;
-    let spec = ModelSpec { base, camera, free, re_start, strength_range: None };
+    let spec = ModelSpec { base, camera, free, re_start, strength_ranges: Vec::new() };
     let mut shooting = Shooting {
         observed: &rec.frames,
         segments: split(f0, moving_end, opts.segment_frames),

@@ -50,11 +50,16 @@ pub struct ModelSpec {
     pub free: Vec<Free>,
     /// Reynolds number at the start (the reference of `reynolds_drag`).
     pub re_start: f64,
-    /// Where an effect's strength may go (None: wherever the effect allows).
-    pub strength_range: Option<(f64, f64)>,
+    /// Where each effect's strength may go (an effect not listed: wherever it allows).
+    pub strength_ranges: Vec<(EffectKind, (f64, f64))>,
 }
 
 impl ModelSpec {
+    /// Whether `v` lies outside the range given for `kind`'s strength.
+    fn out_of_range(&self, kind: EffectKind, v: f64) -> bool {
+        self.strength_ranges.iter().any(|&(k, (lo, hi))| k == kind && !(lo..=hi).contains(&v))
+    }
+
     /// Internal coordinates of parameter values.
     pub fn to_internal(&self, values: &[f64]) -> Vec<f64> {
         self.free
@@ -135,13 +140,13 @@ impl ModelSpec {
             match f {
                 Free::Drag(i) => model.c_drag[*i] = v,
                 Free::Effect(EffectKind::CameraDistortion) => {
-                    if v.abs() > 0.5 || self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                    if v.abs() > 0.5 || self.out_of_range(EffectKind::CameraDistortion, v) {
                         return None;
                     }
                     camera.k1 = v;
                 }
                 Free::Effect(EffectKind::CameraPerspective) => {
-                    if v < 0.0 || self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                    if v < 0.0 || self.out_of_range(EffectKind::CameraPerspective, v) {
                         return None;
                     }
                     camera.distance_mm = (v > 0.0).then(|| 1000.0 / v);
@@ -153,7 +158,7 @@ impl ModelSpec {
                     camera.tilt_rad = v.to_radians();
                 }
                 Free::Effect(kind) => {
-                    if self.strength_range.is_some_and(|(lo, hi)| !(lo..=hi).contains(&v)) {
+                    if self.out_of_range(*kind, v) {
                         return None;
                     }
                     effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects).ok()?;
