@@ -29,7 +29,12 @@ fn the_sample_is_none_with_json_and_a_report() {
         assert!((got / c - 1.0).abs() < 0.02, "C{} = {got}", i + 1);
     }
     let candidates = v["candidates"].as_array().unwrap();
-    assert_eq!(candidates.len(), 7);
+    assert_eq!(candidates.len(), 8);
+    // The open world's fields: nothing named, no glitch, no excess left; the noise from the tracks.
+    assert_eq!(v["left_out_all"].as_array().map(|a| a.len()), Some(0));
+    assert_eq!(v["glitches"], 0);
+    assert!((v["noise_px"].as_f64().unwrap() - 0.5).abs() < 0.03, "noise {}", v["noise_px"]);
+    assert!(v["before"]["excess_px"].as_f64().unwrap() < 0.75 * v["noise_px"].as_f64().unwrap());
     for c in candidates {
         assert!(c["name"].is_string() && c["rms_px"].is_number() && c["score"].is_number(), "{c}");
     }

@@ -156,7 +156,7 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
         let s = synthesize(&case, &opts).unwrap();
         let rec = &s.recording;
         let camera = Camera::for_recording(&rec.header, &rec.frames);
-        let spec = ModelSpec { base: case.model.clone(), camera, free: Vec::new(), re_start: 1.0, strength_range: None };
+        let spec = ModelSpec { base: case.model.clone(), camera, free: Vec::new(), re_start: 1.0, strength_ranges: Vec::new() };
         let sh = Shooting {
             observed: &rec.frames,
             segments: vec![0..rec.frames.len()],

@@ -302,9 +302,5 @@ fn residual_words(d: &Diagnosis) -> String {
     } else {
         String::new()
     };
-    format!("{}{late}{radial}{}", thirds_words(s), end_clause(s))
-}
-
-fn thirds_words(s: &Signature) -> String {
-    format!("By thirds of the run it misses by {}.", thirds(s))
+    format!("{late}{radial}{}", end_clause(s))
 }
