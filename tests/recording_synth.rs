@@ -217,6 +217,6 @@ fn camera_options_are_checked() {
     // A ring that rolls behind a tilted camera cannot be filmed: an error, not NaN pixels.
     let mut away = case.clone();
     away.initial.y_c = 10.0;
-    let tilted = SynthOptions { camera_tilt_deg: 60.0, ..near };
+    let tilted = SynthOptions { camera_tilt_deg: -60.0, ..near }; // towards +Y, where the ring is
     assert!(matches!(synthesize(&away, &tilted), Err(SynthError::Camera(_))));
 }
