@@ -175,20 +175,8 @@ pub fn find_glitches(frames: &[FrameMarks], noise_px: f64) -> Vec<Glitch> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::recording::noise::tests::spinning;
     use crate::recording::rng::Rng;
-
-    fn spinning(frames: usize, rate: f64, s: f64, seed: u64) -> Vec<FrameMarks> {
-        let mut rng = Rng::new(seed);
-        (0..frames)
-            .map(|i| {
-                let t = i as f64;
-                std::array::from_fn(|k| {
-                    let a = rate * t - k as f64 * std::f64::consts::FRAC_PI_2;
-                    Some([600.0 + 0.8 * t + 67.0 * a.cos() + s * rng.normal(), 400.0 - 0.3 * t + 40.0 * a.sin() + s * rng.normal()])
-                })
-            })
-            .collect()
-    }
 
     #[test]
     fn clean_tracks_have_no_glitches() {

@@ -71,18 +71,19 @@ pub fn track_noise(frames: &[FrameMarks], skip: &dyn Fn(usize, usize) -> bool) -
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::recording::rng::Rng;
 
-    /// Four marks on a circle turning at `rate` rad per frame, drifting, with noise `s`.
-    fn spinning(frames: usize, rate: f64, s: f64, seed: u64) -> Vec<FrameMarks> {
+    /// Four marks in cyclic order on a circle turning at `rate` rad per frame, drifting, with
+    /// noise `s` (also the glitch finder's test tracks).
+    pub(crate) fn spinning(frames: usize, rate: f64, s: f64, seed: u64) -> Vec<FrameMarks> {
         let mut rng = Rng::new(seed);
         (0..frames)
             .map(|i| {
                 let t = i as f64;
                 std::array::from_fn(|k| {
-                    let a = rate * t + k as f64 * std::f64::consts::FRAC_PI_2;
+                    let a = rate * t - k as f64 * std::f64::consts::FRAC_PI_2;
                     Some([600.0 + 0.8 * t + 67.0 * a.cos() + s * rng.normal(), 400.0 - 0.3 * t + 40.0 * a.sin() + s * rng.normal()])
                 })
             })
