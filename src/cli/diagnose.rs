@@ -75,7 +75,8 @@ pub struct PairJson {
 
 #[derive(Serialize, Debug)]
 pub struct PartialJson {
-    pub name: &'static str,
+    /// One effect, or a pair.
+    pub names: Vec<&'static str>,
     /// Share of the baseline's squared misfit beyond the noise that it removes.
     pub explained_share: f64,
 }
@@ -145,7 +146,9 @@ impl DiagnoseJson {
             left_out: d.finding.name(),
             left_out_all: d.finding.named().iter().map(|k| k.name()).collect(),
             partial: match &d.finding {
-                Finding::Unexplained { partial: Some((k, share)) } => Some(PartialJson { name: k.name(), explained_share: *share }),
+                Finding::Unexplained { partial: Some(p) } => {
+                    Some(PartialJson { names: p.effects.iter().map(|k| k.name()).collect(), explained_share: p.share })
+                }
                 _ => None,
             },
             glitches: d.glitches.len(),
@@ -274,7 +277,7 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
     );
     match &d.finding {
         Finding::Named(k) => println!("left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")),
-        Finding::Unexplained { partial: Some((k, share)) } => println!("left out: unexplained ({k} explains {:.0}% of the excess)", 100.0 * share),
+        Finding::Unexplained { partial: Some(p) } => println!("left out: unexplained ({p} explains {:.0}% of the excess)", 100.0 * p.share),
         f => println!("left out: {}", f.name()),
     }
     match &d.mismatch {

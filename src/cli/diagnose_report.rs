@@ -206,7 +206,7 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
             let _ = writeln!(m, "**Left out: none** (the baseline is consistent with the noise).\n");
         }
         Finding::Unexplained { partial } => {
-            let part = partial.map_or(String::new(), |(k, s)| format!("; {k} explains {:.0}% of the excess, partially", 100.0 * s));
+            let part = partial.as_ref().map_or(String::new(), |p| format!("; {p} explains {:.0}% of the excess, partially", 100.0 * p.share));
             let _ = writeln!(m, "**Left out: unexplained** (the baseline misses beyond the noise and no candidate explains most of it{part}).\n");
         }
     }

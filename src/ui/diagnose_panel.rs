@@ -84,7 +84,7 @@ fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -
         Finding::Unexplained { partial } => (
             format!(
                 "Left out: something no candidate explains{}",
-                partial.map_or(String::new(), |(k, s)| format!(" ({k} explains {:.0}%, partially)", 100.0 * s))
+                partial.as_ref().map_or(String::new(), |p| format!(" ({p} explains {:.0}%, partially)", 100.0 * p.share))
             ),
             MISMATCH_COLOR,
         ),

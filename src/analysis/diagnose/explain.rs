@@ -2,7 +2,7 @@
 //! it, and the fitted parameter; numbers from the diagnosis itself.
 
 use super::result::{Diagnosis, Finding, ModelFit, Signature};
-use super::run::{CONSISTENT_RATIO, MIN_EXPLAINED, explained_share};
+use super::run::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
 use crate::physics::effects::EffectKind;
 use std::fmt::Write;
 
@@ -178,7 +178,7 @@ fn runner_up_words(d: &Diagnosis, c: &super::result::Candidate) -> String {
     let share = explained_share(d.before.rms_px, c.rms_px, d.noise_px);
     if c.delta_score < -d.evidence {
         format!(
-            " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the misfit beyond the noise, and an effect must explain at least {:.0}% to be named.",
+            " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the squared misfit beyond the noise, and to be named an effect must explain at least {:.0}% and cut the excess {MIN_EXCESS_CUT} times or end within {CONSISTENT_RATIO} times the noise.",
             c.effect,
             c.delta_score,
             c.rms_px,
@@ -227,11 +227,11 @@ pub fn explain(d: &Diagnosis) -> String {
                 residual_words(d)
             );
             match partial {
-                Some((k, share)) => {
+                Some(p) => {
                     let _ = write!(
                         out,
-                        " The best partial candidate is {k}: it explains {:.0}% of the squared misfit beyond the noise ({:.0}% is needed to name it), so it is at most part of the answer.",
-                        100.0 * share,
+                        " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise, not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer.",
+                        100.0 * p.share,
                         100.0 * MIN_EXPLAINED
                     );
                 }

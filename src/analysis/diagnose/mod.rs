@@ -73,5 +73,5 @@ pub mod signature;
 pub mod whole;
 
 pub use options::{DEFAULT_EVIDENCE, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
-pub use result::{Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries, Signature, Trace};
-pub use run::{CONSISTENT_RATIO, MIN_EXPLAINED, bic, diagnose, excess_px, explained_share};
+pub use result::{Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial, ResidualSeries, Signature, Trace};
+pub use run::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, bic, diagnose, excess_px, explained_share, explains};

@@ -161,7 +161,22 @@ pub enum Finding {
     /// The baseline misses by more than the noise and no candidate explains most of it; the
     /// candidate that explains the largest share of the excess (over `before^2 - noise^2`),
     /// where one explains any.
-    Unexplained { partial: Option<(EffectKind, f64)> },
+    Unexplained { partial: Option<Partial> },
+}
+
+/// The candidate (one effect, or a pair) that explains the largest share of an unexplained
+/// misfit beyond the noise, and that share (of `before^2 - noise^2`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Partial {
+    pub effects: Vec<EffectKind>,
+    pub share: f64,
+}
+
+impl std::fmt::Display for Partial {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = self.effects.iter().map(|k| k.name()).collect();
+        f.write_str(&names.join(" + "))
+    }
 }
 
 impl Finding {

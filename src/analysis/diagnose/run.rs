@@ -5,7 +5,7 @@ use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
-use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, PairCandidate, ModelFit, ResidualSeries, Signature, Trace};
+use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, PairCandidate, Partial, ModelFit, ResidualSeries, Signature, Trace};
 use super::signature::{measure, run_end};
 use super::whole::WholeFit;
 use crate::analysis::fit::lm::LmError;
@@ -184,9 +184,9 @@ pub fn diagnose(
     ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
     let (mut finding, chosen) = decide(&baseline, &ranked, noise_px, opts.evidence);
     let mut chosen = chosen.unwrap_or(&baseline);
-    // Forward selection: a named effect that leaves the misfit beyond the noise tried beside
-    // the other candidates that improved on the baseline.
-    let pair_fits = if chosen.kind != EffectKind::None && chosen.rms_px() > CONSISTENT_RATIO * noise_px {
+    // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
+    // noise, pairs of the candidates that improved on the baseline.
+    let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
         progress(&DiagnoseProgress { stage: DiagnoseStage::Candidates, fraction: 0.95, message: "pairs of effects".into() });
         pairs_stage(&ms, &levels, &ranked, cancel)?
     } else {
@@ -196,10 +196,16 @@ pub fn diagnose(
     let best_pair = pair_fits.iter().filter_map(|(_, _, r)| r.as_ref().ok()).min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
     if let Some(p) = best_pair
         && pair_score(p) < score(chosen) - opts.evidence
-        && explained_share(chosen.rms_px(), p.rms_px(), noise_px) >= MIN_EXPLAINED
+        && explains(chosen.rms_px(), p.rms_px(), noise_px)
     {
         finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
         chosen = p;
+    } else if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
+        // A pair that explains more than any single one is the better partial answer.
+        let share = explained_share(baseline.rms_px(), p.rms_px(), noise_px);
+        if partial.as_ref().is_none_or(|q| share > q.share) {
+            *partial = Some(Partial { effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(), share });
+        }
     }
     let pairs: Vec<PairCandidate> = {
         let mut v: Vec<PairCandidate> = pair_fits
@@ -329,24 +335,41 @@ pub fn diagnose(
 }
 
 /// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
-/// baseline by `evidence` and explain at least [`MIN_EXPLAINED`] of its squared misfit beyond
-/// the noise is named; else nothing is missing when the baseline is within [`CONSISTENT_RATIO`]
+/// baseline by `evidence` and explain its misfit beyond the noise ([`explains`]) is named; else nothing is missing when the baseline is within [`CONSISTENT_RATIO`]
 /// of the noise, and something unexplained when it is not. BIC alone is not enough: where the
 /// baseline misses by far more than the noise its residuals are no white noise, and any extra
 /// parameter that bends the path a little buys thousands of BIC points (a lens fitted to a
 /// sliding ring's recording: -735 for a misfit from 14.6 to 14.2 px).
 fn decide<'a>(baseline: &WholeFit, ranked: &[(Candidate, Option<&'a WholeFit>)], noise_px: f64, evidence: f64) -> (Finding, Option<&'a WholeFit>) {
     let before = baseline.rms_px();
-    let share = |c: &Candidate| explained_share(before, c.rms_px, noise_px);
     let effects = || ranked.iter().filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite());
-    if let Some((c, w)) = effects().find(|(c, _)| c.delta_score < -evidence && share(c) >= MIN_EXPLAINED) {
+    if let Some((c, w)) = effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px)) {
         return (Finding::Named(vec![c.effect]), *w);
     }
     if before <= CONSISTENT_RATIO * noise_px {
         return (Finding::Nothing, None);
     }
-    let partial = effects().map(|(c, _)| (c.effect, share(c))).filter(|&(_, s)| s > 0.0).max_by(|a, b| a.1.total_cmp(&b.1));
+    let share = |c: &Candidate| explained_share(before, c.rms_px, noise_px);
+    let partial = effects()
+        .map(|(c, _)| Partial { effects: vec![c.effect], share: share(c) })
+        .filter(|p| p.share > 0.0)
+        .max_by(|a, b| a.share.total_cmp(&b.share));
     (Finding::Unexplained { partial }, None)
+}
+
+/// How many times a named model must cut the misfit beyond the noise, unless it ends
+/// consistent with the noise.
+pub const MIN_EXCESS_CUT: f64 = 4.0;
+
+/// The explain-the-excess rule: a model with misfit `after` explains a recording that another
+/// model misses by `before` when it removes at least [`MIN_EXPLAINED`] of the squared misfit
+/// beyond the noise AND either cuts the excess [`MIN_EXCESS_CUT`] times or is itself within
+/// [`CONSISTENT_RATIO`] of the noise. Half alone named a candidate that imitates a missing
+/// effect in part (rolling friction for Reynolds drag and pivot friction together: the excess
+/// from 15.5 to 5.4 px), where the truth is something it was not offered.
+pub fn explains(before_px: f64, after_px: f64, noise_px: f64) -> bool {
+    explained_share(before_px, after_px, noise_px) >= MIN_EXPLAINED
+        && (excess_px(after_px, noise_px) * MIN_EXCESS_CUT <= excess_px(before_px, noise_px) || after_px <= CONSISTENT_RATIO * noise_px)
 }
 
 /// The mismatch (from the departure to the last departing window of the baseline fitted up to
