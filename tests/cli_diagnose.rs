@@ -59,17 +59,28 @@ fn bad_files_and_flags_are_clear_errors() {
     assert_fails_with(&["diagnose-bench", "--seeds", "0"], &["--seeds"]);
 }
 
-/// The README's table made again from rows saved by `--out` (nothing diagnosed): rates, the
-/// median improvement, the markers' text replaced; bad rows named by file and line.
+/// The README's table made again from rows saved by `--out` (nothing diagnosed): rates, false
+/// alarms, the excess beyond the noise, the goals' checks, the markers' text replaced; bad rows
+/// named by file and line.
 #[test]
 fn the_bench_table_is_made_from_saved_rows() {
     let dir = std::env::temp_dir().join(format!("ringlab-bench-rows-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let header = "effect,seed,strength,named,before_rms_px,after_rms_px,improvement,seconds,frames\n";
+    let header = "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames\n";
     let slip = dir.join("slip.csv");
-    std::fs::write(&slip, format!("{header}slip,1,0.4,slip,10,0.5,20,12,1500\nslip,2,0.3,none,8,8,1,20,1600\nslip,3,0.5,slip,12,0.5,24,30,1700\n")).unwrap();
+    std::fs::write(
+        &slip,
+        format!(
+            "{header}single:slip,1,slip,slip,10,0.5,0.5,0,12,1500\nsingle:slip,2,slip,unexplained,8,8,0.5,0,20,1600\nsingle:slip,3,slip,slip,12,0.5,0.5,0,30,1700\n"
+        ),
+    )
+    .unwrap();
     let none = dir.join("none.csv");
-    std::fs::write(&none, format!("{header}none,1,0,none,0.5,0.5,1,10,1400\n")).unwrap();
+    std::fs::write(
+        &none,
+        format!("{header}camera-known:tilted,1,none,none,0.5,0.5,0.5,0,10,1400\nwithheld:slip,1,unexplained,none,1.2,1.2,0.5,0,9,1400\npair:reynolds_drag+pivot_friction,1,reynolds_drag+pivot_friction,pivot_friction+reynolds_drag,15,0.5,0.5,3,14,1000\n"),
+    )
+    .unwrap();
     let readme = dir.join("README.md");
     std::fs::write(&readme, "intro\n<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n").unwrap();
     let args = |files: &str| vec!["diagnose-bench".to_string(), "--from-csv".into(), files.into(), "--readme".into(), readme.to_str().unwrap().into()];
@@ -77,18 +88,24 @@ fn the_bench_table_is_made_from_saved_rows() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&readme).unwrap();
     assert!(!text.contains("old table") && text.starts_with("intro\n") && text.ends_with("after\n"), "{text}");
-    assert!(text.contains("| none | - | 1 | 1/1 (false alarms 0%) |"), "{text}");
-    assert!(text.contains("| slip | 0.25 .. 0.6 | 3 | 2/3 (67%) | none | 11.00 -> 0.500 px (22.0x) | 20.0x | 20.0 / 30.0 s |"), "{text}");
+    assert!(text.contains("| camera-known:tilted | none | 1 | 1/1 (false alarms 0%) |"), "{text}");
+    assert!(text.contains("| single:slip | slip | 3 | 2/3 (67%) | unexplained | 10.99 -> 0.000 px | >999x | 20.0 / 30.0 s |"), "{text}");
+    // Pairs are right in either order; a `none` where the baseline misses by twice the noise is counted.
+    assert!(text.contains("| pair:reynolds_drag+pivot_friction | reynolds_drag+pivot_friction | 1 | 1/1 (100%) |"), "{text}");
+    assert!(text.contains("twice the noise or more: 1."), "{text}");
 
     // The same recording twice, a row that is not one, a file that is not a table.
     let s = slip.to_str().unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", &format!("{s},{s}")], &["slip seed 1", "twice"]);
+    assert_fails_with(&["diagnose-bench", "--from-csv", &format!("{s},{s}")], &["single:slip seed 1", "twice"]);
     let bad = dir.join("bad.csv");
-    std::fs::write(&bad, format!("{header}slip,1,0.4,slap,10,0.5,20,12,1500\n")).unwrap();
+    std::fs::write(&bad, format!("{header}single:slip,1,slip,slap,10,0.5,0.5,0,12,1500\n")).unwrap();
     assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "'slap'"]);
-    std::fs::write(&bad, format!("{header}slip,1,0.4,slip,ten,0.5,20,12,1500\n")).unwrap();
+    std::fs::write(&bad, format!("{header}single:slip,1,slip,slip,ten,0.5,0.5,0,12,1500\n")).unwrap();
     assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "before_rms_px", "'ten'"]);
+    std::fs::write(&bad, format!("{header}twin:slip,1,slip,slip,10,0.5,0.5,0,12,1500\n")).unwrap();
+    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "'twin:slip' is not a family"]);
     std::fs::write(&bad, "frame,x1,y1\n").unwrap();
     assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:1", "not a diagnose-bench table"]);
+    assert_fails_with(&["diagnose-bench", "--families", "pair:slip+slip"], &["--families", "'pair:slip+slip'"]);
     let _ = std::fs::remove_dir_all(&dir);
 }

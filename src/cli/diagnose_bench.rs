@@ -1,14 +1,13 @@
-//! `ringlab diagnose-bench`: the diagnosis on recordings with a concealed effect, many seeds
-//! per effect; how often it names the effect, how much the misfit falls, how often it
-//! raises a false alarm on `none`, and how long it takes. Writes the README's table.
+//! `ringlab diagnose-bench`: the diagnosis on concealed recordings, many seeds per family
+//! (`analysis::diagnose::concealed::Family`: one effect, one effect with a tracker's glitches,
+//! pairs, a withheld candidate, no effect under a known camera); how often it says what it
+//! should, how much of the misfit beyond the noise the named model removes, how often it
+//! raises a false alarm, and how long it takes. Writes the README's table.
 
-use super::diagnose::parse_candidates;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use ringlab::analysis::diagnose::concealed::{concealed_case, concealed_recording};
-use ringlab::analysis::diagnose::{DiagnoseOptions, diagnose};
-use ringlab::physics::EffectKind;
-use ringlab::recording::synth::synthesize;
+use ringlab::analysis::diagnose::concealed::{Family, family_recording};
+use ringlab::analysis::diagnose::{DiagnoseOptions, Diagnosis, Finding, diagnose, excess_px};
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -19,18 +18,17 @@ const END: &str = "<!-- diagnose-bench end -->";
 
 #[derive(Args, Debug)]
 pub struct DiagnoseBenchArgs {
-    /// Recordings per effect
+    /// Recordings per family
     #[arg(long, default_value_t = 20)]
     pub seeds: u64,
     /// First seed
     #[arg(long, default_value_t = 1)]
     pub first_seed: u64,
-    /// Effects to conceal, comma-separated, `none` included (default: all)
-    #[arg(long, value_name = "NAME,..")]
-    pub effects: Option<String>,
-    /// Conceal every effect at this strength instead of a random one in its realistic range
-    #[arg(long, allow_negative_numbers = true)]
-    pub strength: Option<f64>,
+    /// Families, comma-separated: single:NAME, glitches:NAME, pair:A+B, withheld:NAME,
+    /// camera-known:pinhole|tilted, or the groups single, glitches, pairs, withheld,
+    /// camera-known (default: every family)
+    #[arg(long, value_name = "FAMILY,..")]
+    pub families: Option<String>,
     /// One row per recording, as CSV
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
@@ -41,19 +39,42 @@ pub struct DiagnoseBenchArgs {
     #[arg(long, value_name = "DIR")]
     pub keep_wrong: Option<PathBuf>,
     /// Diagnose nothing: make the table from the rows of these CSV files (written by --out by
-    /// earlier runs, e.g. one per effect), comma-separated
-    #[arg(long, value_name = "FILE.csv,..", value_delimiter = ',', conflicts_with_all = ["out", "keep_wrong", "strength"])]
+    /// earlier runs), comma-separated
+    #[arg(long, value_name = "FILE.csv,..", value_delimiter = ',', conflicts_with_all = ["out", "keep_wrong"])]
     pub from_csv: Vec<PathBuf>,
 }
 
+/// One recording's result.
 struct Row {
-    effect: EffectKind,
+    family: String,
     seed: u64,
-    named: EffectKind,
+    /// What it should say and what it said: effect names joined by `+`, `none`, `unexplained`.
+    expected: String,
+    said: String,
     before: f64,
     after: f64,
+    noise: f64,
+    glitches: usize,
     seconds: f64,
     frames: usize,
+}
+
+impl Row {
+    fn right(&self) -> bool {
+        sorted(&self.expected) == sorted(&self.said)
+    }
+    fn named(&self) -> bool {
+        !matches!(self.said.as_str(), "none" | "unexplained")
+    }
+    fn excess(&self) -> (f64, f64) {
+        (excess_px(self.before, self.noise), excess_px(self.after, self.noise))
+    }
+}
+
+fn sorted(s: &str) -> Vec<&str> {
+    let mut v: Vec<&str> = s.split('+').collect();
+    v.sort_unstable();
+    v
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -65,60 +86,76 @@ fn median(v: &mut [f64]) -> f64 {
     if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
 }
 
-fn table(rows: &[Row], effects: &[EffectKind], fixed: Option<f64>) -> String {
-    let mut out = String::new();
-    out.push_str("| concealed | strength | recordings | named correctly | named instead | misfit before -> after, median (when named) | lowest improvement | time median / max |\n");
-    out.push_str("|---|---|---|---|---|---|---|---|\n");
-    for &k in effects {
-        let r: Vec<&Row> = rows.iter().filter(|r| r.effect == k).collect();
-        if r.is_empty() {
-            continue;
+/// What a diagnosis said, as a row's text.
+fn said(d: &Diagnosis) -> String {
+    match &d.finding {
+        Finding::Named(k) => k.iter().map(|k| k.name()).collect::<Vec<_>>().join("+"),
+        f => f.name().to_string(),
+    }
+}
+
+/// The README's table: one line per family in the order first met, then the goals' checks.
+fn table(rows: &[Row]) -> String {
+    let mut families: Vec<&str> = Vec::new();
+    for r in rows {
+        if !families.contains(&r.family.as_str()) {
+            families.push(&r.family);
         }
-        let ok = r.iter().filter(|r| r.named == k).count();
-        let mut wrong: Vec<String> = Vec::new();
-        for w in r.iter().filter(|r| r.named != k) {
-            let name = w.named.name().to_string();
-            if !wrong.contains(&name) {
-                wrong.push(name);
+    }
+    let mut out = String::new();
+    out.push_str("| family | should say | recordings | right | said instead | excess beyond the noise before -> after, median (when right and named) | smallest cut | time median / max |\n");
+    out.push_str("|---|---|---|---|---|---|---|---|\n");
+    for f in &families {
+        let r: Vec<&Row> = rows.iter().filter(|r| r.family == *f).collect();
+        let ok = r.iter().filter(|r| r.right()).count();
+        let mut wrong: Vec<&str> = Vec::new();
+        for w in r.iter().filter(|r| !r.right()) {
+            if !wrong.contains(&w.said.as_str()) {
+                wrong.push(&w.said);
             }
         }
-        let named: Vec<&&Row> = r.iter().filter(|r| r.named == k && k != EffectKind::None).collect();
-        let mut ratios: Vec<f64> = named.iter().map(|r| r.before / r.after).collect();
-        let mut before: Vec<f64> = named.iter().map(|r| r.before).collect();
-        let mut after: Vec<f64> = named.iter().map(|r| r.after).collect();
-        let lowest = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        let named: Vec<&&Row> = r.iter().filter(|r| r.right() && r.named()).collect();
+        let mut before: Vec<f64> = named.iter().map(|r| r.excess().0).collect();
+        let mut after: Vec<f64> = named.iter().map(|r| r.excess().1).collect();
+        let cut = |r: &Row| {
+            let (b, a) = r.excess();
+            b / a.max(1e-3 * r.noise)
+        };
+        let smallest = named.iter().map(|r| cut(r)).fold(f64::INFINITY, f64::min);
         let mut secs: Vec<f64> = r.iter().map(|r| r.seconds).collect();
         let max_s = secs.iter().copied().fold(0.0, f64::max);
-        let (lo, hi) = k.realistic_range();
-        let strength = match (k, fixed) {
-            (EffectKind::None, _) => "-".to_string(),
-            (_, Some(s)) => format!("{s}"),
-            _ => format!("{lo} .. {hi}"),
-        };
-        let rate = if k == EffectKind::None {
-            format!("{ok}/{} (false alarms {:.0}%)", r.len(), 100.0 * (r.len() - ok) as f64 / r.len() as f64)
-        } else {
-            format!("{ok}/{} ({:.0}%)", r.len(), 100.0 * ok as f64 / r.len() as f64)
-        };
-        let improvement = if named.is_empty() {
-            "-".to_string()
-        } else {
-            format!("{:.2} -> {:.3} px ({:.1}x)", median(&mut before), median(&mut after), median(&mut ratios))
-        };
-        let lowest = if named.is_empty() { "-".to_string() } else { format!("{lowest:.1}x") };
+        let share = 100.0 * ok as f64 / r.len() as f64;
+        let rate = if r[0].expected == "none" { format!("{ok}/{} (false alarms {:.0}%)", r.len(), 100.0 - share) } else { format!("{ok}/{} ({share:.0}%)", r.len()) };
+        let improvement =
+            if named.is_empty() { "-".to_string() } else { format!("{:.2} -> {:.3} px", median(&mut before), median(&mut after)) };
+        let smallest = if named.is_empty() { "-".to_string() } else if smallest > 999.0 { ">999x".to_string() } else { format!("{smallest:.1}x") };
         out.push_str(&format!(
-            "| {} | {strength} | {} | {rate} | {} | {improvement} | {lowest} | {:.1} / {:.1} s |\n",
-            k.name(),
+            "| {f} | {} | {} | {rate} | {} | {improvement} | {smallest} | {:.1} / {:.1} s |\n",
+            r[0].expected,
             r.len(),
             if wrong.is_empty() { "-".to_string() } else { wrong.join(", ") },
             median(&mut secs),
             max_s
         ));
     }
+    let none_far = rows.iter().filter(|r| r.said == "none" && r.before >= 2.0 * r.noise).count();
+    let weak = rows.iter().filter(|r| r.right() && r.named()).filter(|r| {
+        let (b, a) = r.excess();
+        a * 4.0 > b && a >= 0.15 * r.noise
+    });
+    out.push_str(&format!(
+        "\n`none` said where the baseline missed by twice the noise or more: {none_far}. Named rightly but the excess cut less than 4x and left above 0.15 noise: {}.\n",
+        weak.count()
+    ));
     out
 }
 
-const CSV_HEADER: &str = "effect,seed,strength,named,before_rms_px,after_rms_px,improvement,seconds,frames";
+const CSV_HEADER: &str = "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames";
+
+/// A row's `said` or `expected` field: effect names joined by `+`, `none`, `unexplained`.
+fn finding_field(s: &str) -> bool {
+    s == "unexplained" || s.split('+').all(|n| ringlab::physics::EffectKind::from_name(n).is_some())
+}
 
 /// The rows of a CSV file that `--out` wrote (every one of its lines checked).
 fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
@@ -132,21 +169,32 @@ fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
     for (i, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
         let at = format!("{}:{}", path.display(), i + 1);
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        if f.len() != 9 {
-            bail!("{at}: expected 9 fields, found {}", f.len());
+        if f.len() != 10 {
+            bail!("{at}: expected 10 fields, found {}", f.len());
         }
-        let kind = |s: &str| EffectKind::from_name(s).ok_or_else(|| anyhow::anyhow!("{at}: '{s}' is not an effect"));
+        if Family::from_name(f[0]).is_none() {
+            bail!("{at}: '{}' is not a family", f[0]);
+        }
+        for (k, what) in [(2, "expected"), (3, "said")] {
+            if !finding_field(f[k]) {
+                bail!("{at}: {what} '{}' is not an effect, none or unexplained", f[k]);
+            }
+        }
         let num = |k: usize, what: &str| -> Result<f64> {
             f[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| anyhow::anyhow!("{at}: {what} '{}' is not a number", f[k]))
         };
+        let count = |k: usize, what: &str| -> Result<usize> { f[k].parse().map_err(|_| anyhow::anyhow!("{at}: {what} '{}' is not a count", f[k])) };
         rows.push(Row {
-            effect: kind(f[0])?,
+            family: f[0].to_string(),
             seed: f[1].parse().map_err(|_| anyhow::anyhow!("{at}: seed '{}' is not a whole number", f[1]))?,
-            named: kind(f[3])?,
+            expected: f[2].to_string(),
+            said: f[3].to_string(),
             before: num(4, "before_rms_px")?,
             after: num(5, "after_rms_px")?,
-            seconds: num(7, "seconds")?,
-            frames: f[8].parse().map_err(|_| anyhow::anyhow!("{at}: frames '{}' is not a count", f[8]))?,
+            noise: num(6, "noise_px")?,
+            glitches: count(7, "glitches")?,
+            seconds: num(8, "seconds")?,
+            frames: count(9, "frames")?,
         });
     }
     Ok(rows)
@@ -165,42 +213,57 @@ fn write_readme(readme: &std::path::Path, t: &str) -> Result<()> {
     std::fs::write(readme, new).with_context(|| format!("writing {}", readme.display()))
 }
 
-pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
-    let effects: Vec<EffectKind> = match &args.effects {
-        None => EffectKind::ALL.to_vec(),
-        Some(list) => {
-            let mut v = parse_candidates(list)?;
-            if list.split(',').any(|s| s.trim() == "none") {
-                v.insert(0, EffectKind::None);
+/// The families of `--families` (groups expanded).
+fn parse_families(list: Option<&str>) -> Result<Vec<Family>> {
+    let Some(list) = list else { return Ok(Family::all()) };
+    let mut out: Vec<Family> = Vec::new();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let group: Vec<Family> = match item {
+            "single" | "glitches" | "withheld" | "camera-known" => {
+                Family::all().into_iter().filter(|f| f.name().starts_with(&format!("{item}:"))).collect()
             }
-            v
+            "pairs" => Family::all().into_iter().filter(|f| matches!(f, Family::Pair(..))).collect(),
+            _ => vec![Family::from_name(item).with_context(|| {
+                format!("--families: '{item}' is not a family (single:NAME, glitches:NAME, pair:A+B, withheld:NAME, camera-known:pinhole|tilted, or a group)")
+            })?],
+        };
+        for f in group {
+            if !out.contains(&f) {
+                out.push(f);
+            }
         }
-    };
+    }
+    if out.is_empty() {
+        bail!("--families: no family given");
+    }
+    Ok(out)
+}
+
+pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
+    let families = parse_families(args.families.as_deref())?;
     if !args.from_csv.is_empty() {
-        let mut rows = Vec::new();
+        let mut rows: Vec<Row> = Vec::new();
         for p in &args.from_csv {
             for r in read_rows(p)? {
-                if rows.iter().any(|o: &Row| o.effect == r.effect && o.seed == r.seed) {
-                    bail!("{}: {} seed {} is in the table twice (a recording counts once)", p.display(), r.effect.name(), r.seed);
+                if rows.iter().any(|o| o.family == r.family && o.seed == r.seed) {
+                    bail!("{}: {} seed {} is in the table twice (a recording counts once)", p.display(), r.family, r.seed);
                 }
                 rows.push(r);
             }
         }
-        rows.retain(|r| effects.contains(&r.effect));
-        if rows.is_empty() {
-            bail!("no rows of the effects asked for in {}", args.from_csv.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+        if args.families.is_some() {
+            let names: Vec<String> = families.iter().map(Family::name).collect();
+            rows.retain(|r| names.contains(&r.family));
         }
-        let t = table(&rows, &effects, None);
+        if rows.is_empty() {
+            bail!("no rows of the families asked for in {}", args.from_csv.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+        }
+        let t = table(&rows);
         println!("{t}");
         return args.readme.as_deref().map_or(Ok(()), |r| write_readme(r, &t));
     }
     if args.seeds == 0 {
         bail!("--seeds must be at least 1");
-    }
-    if let Some(s) = args.strength
-        && !s.is_finite()
-    {
-        bail!("--strength = {s}: must be a finite number");
     }
     let mut csv = match &args.out {
         Some(p) => {
@@ -215,76 +278,57 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     }
     let cancel = AtomicBool::new(false);
     let mut rows = Vec::new();
-    for &k in &effects {
+    for family in &families {
         for seed in args.first_seed..args.first_seed + args.seeds {
-            let (rec, strength) = match args.strength {
-                Some(s) if k != EffectKind::None => {
-                    let (case, mut opts, _) = concealed_case(k, seed).map_err(anyhow::Error::msg)?;
-                    opts.effect = Some((k, s));
-                    let mut rec = synthesize(&case, &opts).with_context(|| format!("{k} seed {seed}"))?.recording;
-                    rec.header.extra.clear();
-                    (rec, s)
-                }
-                _ => {
-                    let (rec, truth) = concealed_recording(k, seed).map_err(anyhow::Error::msg)?;
-                    (rec, truth.strength)
-                }
-            };
-            let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &cancel);
-            let row = match d {
-                Ok(d) => Row {
-                    effect: k,
-                    seed,
-                    named: d.finding.first(),
-                    before: d.before.rms_px,
-                    after: d.after.rms_px,
-                    seconds: d.compute_seconds,
-                    frames: d.frames,
-                },
+            let rec = family_recording(*family, seed).map_err(anyhow::Error::msg).with_context(|| format!("{} seed {seed}", family.name()))?;
+            let opts = DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
+            let d = match diagnose(&rec, &opts, &|_| {}, &cancel) {
+                Ok(d) => d,
                 Err(e) => {
-                    eprintln!("{k} seed {seed}: diagnosis failed: {e}");
+                    eprintln!("{} seed {seed}: diagnosis failed: {e}", family.name());
                     continue;
                 }
             };
-            eprintln!(
-                "{:<20} seed {:>3} strength {:>9.5}: named {:<20} {:>8.3} -> {:>7.3} px  {:>5.1} s  {} frames{}",
-                k.name(),
+            let row = Row {
+                family: family.name(),
                 seed,
-                strength,
-                row.named.name(),
+                expected: family.expected().join("+"),
+                said: said(&d),
+                before: d.before.rms_px,
+                after: d.after.rms_px,
+                noise: d.noise_px,
+                glitches: d.glitches.len(),
+                seconds: d.compute_seconds,
+                frames: d.frames,
+            };
+            eprintln!(
+                "{:<42} seed {:>3}: said {:<40} {:>8.3} -> {:>7.3} px (noise {:.3})  {:>5.1} s  {} frames{}",
+                row.family,
+                seed,
+                row.said,
                 row.before,
                 row.after,
+                row.noise,
                 row.seconds,
                 row.frames,
-                if row.named == k { "" } else { "  WRONG" }
+                if row.right() { "" } else { "  WRONG" }
             );
             if let Some(f) = csv.as_mut() {
-                writeln!(
-                    f,
-                    "{},{},{},{},{},{},{},{},{}",
-                    k.name(),
-                    seed,
-                    strength,
-                    row.named.name(),
-                    row.before,
-                    row.after,
-                    row.before / row.after,
-                    row.seconds,
-                    row.frames
-                )?;
+                let r = &row;
+                writeln!(f, "{},{},{},{},{},{},{},{},{},{}", r.family, r.seed, r.expected, r.said, r.before, r.after, r.noise, r.glitches, r.seconds, r.frames)?;
                 f.flush()?;
             }
-            if row.named != k
+            if !row.right()
                 && let Some(dir) = &args.keep_wrong
             {
-                let p = dir.join(format!("{}-seed{}.csv", k.name(), seed));
+                let p = dir.join(format!("{}-seed{}.csv", family.name().replace([':', '+'], "-"), seed));
                 let mut f = std::fs::File::create(&p).with_context(|| format!("creating {}", p.display()))?;
                 ringlab::recording::write_recording(&mut f, &rec)?;
             }
             rows.push(row);
         }
     }
-    let t = table(&rows, &effects, args.strength);
+    let t = table(&rows);
     println!("{t}");
     args.readme.as_deref().map_or(Ok(()), |r| write_readme(r, &t))
 }

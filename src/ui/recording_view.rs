@@ -25,6 +25,8 @@ pub struct DataView {
     /// window on the plots' time axis.
     pub mismatch_path: Vec<[f64; 2]>,
     pub mismatch_plot: Option<[f64; 2]>,
+    /// Point A at the frames so far where a diagnosis left out a tracker's glitch.
+    pub glitches: Vec<[f64; 2]>,
 }
 
 impl DataView {
@@ -49,6 +51,9 @@ impl DataView {
         let inside = |i: usize| window.is_some_and(|(a, b)| session.frame_seconds(i).is_some_and(|s| s >= a && s <= b));
         let mismatch_path: Vec<[f64; 2]> =
             frames.iter().enumerate().filter(|(i, _)| inside(*i)).filter_map(|(_, f)| f.a_mm.map(len)).collect();
+        let mut glitch_frames: Vec<usize> = session.diagnosed().map_or_else(Vec::new, |d| d.result.glitches.iter().map(|g| g.frame).collect());
+        glitch_frames.dedup();
+        let glitches: Vec<[f64; 2]> = glitch_frames.iter().filter_map(|&i| frames.get(i)?.a_mm.map(len)).collect();
         let mut v_p = Vec::with_capacity(frames.len());
         let mut theta = Vec::with_capacity(frames.len());
         for (i, f) in frames.iter().enumerate() {
@@ -69,14 +74,16 @@ impl DataView {
             theta,
             mismatch_path,
             mismatch_plot: window.map(|(a, b)| [a / plot_time_s, b / plot_time_s]),
+            glitches,
         })
     }
 
-    /// The path of A, and over it the stretch where a diagnosis found the mismatch.
+    /// The path of A, over it the stretch where a diagnosis found the mismatch, and crosses
+    /// where it left out a tracker's glitch.
     pub fn overlays(&self) -> Vec<Overlay<'_>> {
-        let mut v = vec![Overlay { points: &self.path, color: DATA_COLOR, now: self.now, width: 1.2 }];
-        if self.mismatch_path.len() > 1 {
-            v.push(Overlay { points: &self.mismatch_path, color: MISMATCH_COLOR, now: None, width: 2.4 });
+        let mut v = vec![Overlay { points: &self.path, color: DATA_COLOR, now: self.now, width: 1.2, crosses: &[] }];
+        if self.mismatch_path.len() > 1 || !self.glitches.is_empty() {
+            v.push(Overlay { points: &self.mismatch_path, color: MISMATCH_COLOR, now: None, width: 2.4, crosses: &self.glitches });
         }
         v
     }

@@ -137,6 +137,8 @@ pub struct Overlay<'a> {
     pub now: Option<[f64; 2]>,
     /// Line width (points).
     pub width: f32,
+    /// Single points marked with a cross (a tracker's glitches on a recording's path).
+    pub crosses: &'a [[f64; 2]],
 }
 
 /// Draws the panel for `track` at its time `t`, filling the space given. `bounds`: the region
@@ -247,6 +249,16 @@ pub fn trace_panel_with_ui(
         let p = map.to_screen(n.x_a, n.y_a);
         painter.circle_filled(p, 5.0, phase_color(track.phase_at(t)));
         painter.circle_stroke(p, 5.0, Stroke::new(1.5, Color32::WHITE));
+    }
+    // Crosses where an overlay marks single points.
+    for o in overlays {
+        for &q in o.crosses {
+            let c = scr(q);
+            let d = Vec2::splat(4.0);
+            let stroke = Stroke::new(1.8, o.color);
+            painter.line_segment([c - d, c + d], stroke);
+            painter.line_segment([c + Vec2::new(-4.0, 4.0), c + Vec2::new(4.0, -4.0)], stroke);
+        }
     }
     // A square for the overlay's present position (the model's is round).
     for (o, p) in overlays.iter().filter_map(|o| o.now.map(|p| (o, scr(p)))) {

@@ -71,3 +71,183 @@ pub fn concealed_recording(effect: EffectKind, seed: u64) -> Result<(Recording, 
     rec.header.extra.clear();
     Ok((rec, truth))
 }
+
+/// A kind of concealed recording for the proof, and what a diagnosis should say of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// One effect (or none), every candidate offered ([`concealed_case`]).
+    Single(EffectKind),
+    /// One effect (or none) and a tracker's glitches: 0.2% to 2% of the marks off by 10 to 60
+    /// px, and one to four label swaps of one to three frames ([`spoil_tracking`]).
+    Glitches(EffectKind),
+    /// Two effects at once, each at a random strength in its realistic range.
+    Pair(EffectKind, EffectKind),
+    /// One effect whose candidate is not offered: the answer must be `unexplained`.
+    Withheld(EffectKind),
+    /// No effect, filmed by a pinhole camera (300 to 800 mm, tilted when `tilted`, up to 12
+    /// degrees) that the header describes: the answer must be `none`.
+    CameraKnown { tilted: bool },
+}
+
+impl Family {
+    /// Its name in the bench's rows: `single:NAME`, `glitches:NAME`, `pair:A+B`,
+    /// `withheld:NAME`, `camera-known:pinhole` or `camera-known:tilted`.
+    pub fn name(&self) -> String {
+        match self {
+            Family::Single(k) => format!("single:{k}"),
+            Family::Glitches(k) => format!("glitches:{k}"),
+            Family::Pair(a, b) => format!("pair:{a}+{b}"),
+            Family::Withheld(k) => format!("withheld:{k}"),
+            Family::CameraKnown { tilted } => format!("camera-known:{}", if *tilted { "tilted" } else { "pinhole" }),
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Family> {
+        let (kind, rest) = s.trim().split_once(':')?;
+        let effect = |n: &str| EffectKind::from_name(n);
+        match kind {
+            "single" => effect(rest).map(Family::Single),
+            "glitches" => effect(rest).map(Family::Glitches),
+            "withheld" => effect(rest).filter(|&k| k != EffectKind::None).map(Family::Withheld),
+            "pair" => {
+                let (a, b) = rest.split_once('+')?;
+                let (a, b) = (effect(a)?, effect(b)?);
+                (a != b && a != EffectKind::None && b != EffectKind::None && !(a.is_camera() && b.is_camera())).then_some(Family::Pair(a, b))
+            }
+            "camera-known" => match rest {
+                "pinhole" => Some(Family::CameraKnown { tilted: false }),
+                "tilted" => Some(Family::CameraKnown { tilted: true }),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// The pairs the bench conceals: drags of two laws, a contact torque with a camera effect,
+    /// a physical effect with the pinhole.
+    pub const PAIRS: [(EffectKind, EffectKind); 3] = [
+        (EffectKind::ReynoldsDrag, EffectKind::PivotFriction),
+        (EffectKind::RollingFriction, EffectKind::CameraDistortion),
+        (EffectKind::TranslationalDrag, EffectKind::CameraPerspective),
+    ];
+
+    /// Every family of the bench.
+    pub fn all() -> Vec<Family> {
+        let mut v: Vec<Family> = EffectKind::ALL.iter().map(|&k| Family::Single(k)).collect();
+        v.extend(EffectKind::ALL.iter().map(|&k| Family::Glitches(k)));
+        v.extend(Family::PAIRS.iter().map(|&(a, b)| Family::Pair(a, b)));
+        v.extend(EffectKind::ALL.iter().filter(|&&k| k != EffectKind::None).map(|&k| Family::Withheld(k)));
+        v.extend([Family::CameraKnown { tilted: false }, Family::CameraKnown { tilted: true }]);
+        v
+    }
+
+    /// What the diagnosis should say: effect names (in any order), `none` or `unexplained`.
+    pub fn expected(&self) -> Vec<&'static str> {
+        match self {
+            Family::Single(k) | Family::Glitches(k) => vec![k.name()],
+            Family::Pair(a, b) => vec![a.name(), b.name()],
+            Family::Withheld(_) => vec!["unexplained"],
+            Family::CameraKnown { .. } => vec!["none"],
+        }
+    }
+
+    /// The candidates to offer (all but a withheld one).
+    pub fn candidates(&self) -> Vec<EffectKind> {
+        EffectKind::ALL.iter().copied().filter(|&k| k != EffectKind::None && *self != Family::Withheld(k)).collect()
+    }
+}
+
+/// Moves the path anywhere in the image (a camera's effects depend on where the ring is): the
+/// start up to 5 mean radii (100 mm) across and 3.5 along from the image centre.
+fn anywhere(case: &mut Case, rng: &mut Rng) {
+    case.initial.x_c = 5.0 * (2.0 * rng.uniform() - 1.0);
+    case.initial.y_c = 3.5 * (2.0 * rng.uniform() - 1.0);
+}
+
+/// A pinhole camera 300 to 800 mm from the table, tilted up to 12 degrees either way.
+fn pinhole(opts: &mut SynthOptions, rng: &mut Rng, tilted: bool) {
+    opts.camera_distance_mm = Some(300.0 + 500.0 * rng.uniform());
+    opts.camera_tilt_deg = if tilted { 12.0 * (2.0 * rng.uniform() - 1.0) } else { 0.0 };
+}
+
+/// A tracker's glitches in `rec`: each tracked mark of the moving part off by 10 to 60 px in a
+/// random direction with probability `share`, and `swaps` times marks 1 and 3 (or 2 and 4)
+/// swapped for one to three frames. Returns how many positions it spoiled.
+pub fn spoil_tracking(rec: &mut Recording, share: f64, swaps: usize, rng: &mut Rng) -> usize {
+    let n = rec.frames.len();
+    let mut spoiled = 0;
+    for f in rec.frames.iter_mut() {
+        for m in f.iter_mut().flatten() {
+            if rng.uniform() < share {
+                let (off, angle) = (10.0 + 50.0 * rng.uniform(), 2.0 * PI * rng.uniform());
+                *m = [m[0] + off * angle.cos(), m[1] + off * angle.sin()];
+                spoiled += 1;
+            }
+        }
+    }
+    for _ in 0..swaps {
+        let (start, len) = (10 + rng.below(n.saturating_sub(80).max(1)), 1 + rng.below(3));
+        let pair = if rng.uniform() < 0.5 { (0, 2) } else { (1, 3) };
+        for f in rec.frames.iter_mut().skip(start).take(len) {
+            f.swap(pair.0, pair.1);
+            spoiled += 2;
+        }
+    }
+    spoiled
+}
+
+/// Recording `seed` of `family`: the case of [`concealed_case`] for its (first) effect, with
+/// what the family adds. The header tells nothing of the effects; it gives the camera only for
+/// [`Family::CameraKnown`].
+pub fn family_recording(family: Family, seed: u64) -> Result<Recording, String> {
+    let first = match family {
+        Family::Single(k) | Family::Glitches(k) | Family::Withheld(k) => k,
+        Family::Pair(a, _) => a,
+        Family::CameraKnown { .. } => EffectKind::None,
+    };
+    let (mut case, mut opts, _) = concealed_case(first, seed)?;
+    let mut rng = Rng::new(seed.wrapping_mul(0x5851_f42d_4c95_7f2d) ^ 0xc0ffee);
+    if first == EffectKind::CameraPerspective {
+        opts.camera_tilt_deg = 12.0 * (2.0 * rng.uniform() - 1.0);
+        anywhere(&mut case, &mut rng);
+    }
+    match family {
+        Family::Pair(a, b) => {
+            // The first as the case's physics (or the camera), the second as synth's effect.
+            let (lo, hi) = b.realistic_range();
+            let strength = log_uniform(&mut rng, lo, hi);
+            if a.is_physical() {
+                let start = crate::physics::Sample::new(&case.model, 0.0, &case.initial.to_state());
+                let (_, s) = opts.effect.take().ok_or("a pair's first effect has no strength")?;
+                crate::physics::effects::apply(a, s, case.model.body.r, start.reynolds, &mut case.model.effects).map_err(|e| e.to_string())?;
+            }
+            if b == EffectKind::CameraPerspective {
+                anywhere(&mut case, &mut rng);
+            }
+            if a.is_physical() {
+                opts.effect = Some((b, strength));
+            } else if let Some((_, s)) = opts.effect.take() {
+                // A camera effect first: it goes to the camera, the second to the physics.
+                match a {
+                    EffectKind::CameraDistortion => opts.lens_k1 = s,
+                    _ => opts.camera_distance_mm = Some(1000.0 / s),
+                }
+                opts.effect = Some((b, strength));
+            }
+        }
+        Family::CameraKnown { tilted } => {
+            pinhole(&mut opts, &mut rng, tilted);
+            opts.camera_in_header = true;
+            anywhere(&mut case, &mut rng);
+        }
+        _ => {}
+    }
+    let mut rec = synthesize(&case, &opts).map_err(|e: SynthError| e.to_string())?.recording;
+    if let Family::Glitches(_) = family {
+        let share = 0.002 * (10f64).powf(rng.uniform());
+        let swaps = 1 + rng.below(4);
+        spoil_tracking(&mut rec, share, swaps, &mut rng);
+    }
+    rec.header.extra.clear();
+    Ok(rec)
+}

@@ -42,6 +42,9 @@ pub struct FitOptions {
     pub effect: Option<(EffectKind, f64)>,
     /// The camera's radial distortion, when known (`camera_distortion` fits it instead).
     pub lens_k1: f64,
+    /// A pinhole camera's distance (mm) and tilt (degrees), when known, over the header's.
+    pub camera_distance_mm: Option<f64>,
+    pub camera_tilt_deg: Option<f64>,
     pub tolerances: Tolerances,
     pub max_iterations: usize,
     /// Leave the tracker's glitches out (`recording::glitches`); off where the caller has
@@ -59,6 +62,8 @@ impl Default for FitOptions {
             coarse_axes: [Axis { lo: 0.005, hi: 0.5, n: 6, log: true }; 3],
             effect: None,
             lens_k1: 0.0,
+            camera_distance_mm: None,
+            camera_tilt_deg: None,
             tolerances: Tolerances { rtol: 1e-10, atol: 1e-12 },
             max_iterations: 30,
             leave_out_glitches: true,
@@ -215,7 +220,19 @@ pub fn fit(
     report(FitStage::Recover, 0, 1, None);
     let tracks = if opts.leave_out_glitches { check_tracks(rec) } else { as_tracked(rec) };
     let rec = &tracks.recording;
-    let camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
+    let mut camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
+    if let Some(d) = opts.camera_distance_mm {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(FitError::Options(format!("camera distance {d} mm must be a positive number")));
+        }
+        camera.distance_mm = Some(d);
+    }
+    if let Some(t) = opts.camera_tilt_deg {
+        if !(t.abs() < 80.0) {
+            return Err(FitError::Options(format!("camera tilt {t} degrees must lie between -80 and 80")));
+        }
+        camera.tilt_rad = t.to_radians();
+    }
     let motion = recover_with(rec, camera)?;
     check()?;
     // The first frame when theta rises from it, else the first minimum; the model places the
