@@ -467,11 +467,12 @@ fn camera_second_pass(
 }
 
 /// How many of the best single candidates (by BIC, better than the baseline) the forward
-/// selection pairs with each other: three give three pairs, fitted in parallel. Pairs among the
-/// best few and not only with the one named: where two effects are in a recording, the one
+/// selection pairs with each other: four give up to six pairs, fitted in parallel. Pairs among
+/// the best few and not only with the one named: where two effects are in a recording, the one
 /// named alone is often a third that imitates both (Reynolds drag and pivot friction together
-/// are named rolling friction alone).
-const PAIRED: usize = 3;
+/// are named rolling friction alone); and four, not three, because a camera candidate can
+/// imitate part of a physical effect and push one of the pair out of the best three.
+const PAIRED: usize = 4;
 
 /// The pairs of the forward selection: every pair among the [`PAIRED`] best single candidates,
 /// the better one first, each fitted on the baseline's path.
