@@ -22,6 +22,8 @@ enum Command {
     Synth(cli::synth::SynthArgs),
     /// Recover the motion from a recording: A, theta, psi, heading, v_p, turning points
     Recover(cli::recover::RecoverArgs),
+    /// Write a lab tracker's files (DeepLabCut, Tracker, TrackMate, a plain CSV) as a recording
+    Import(cli::import::ImportCmdArgs),
     /// Fit the model (drag C1..C3 and the start state) to a recording
     Fit(cli::fit::FitArgs),
     /// Name the physics the model left out of a recording (or none), show the fit improve
@@ -47,6 +49,7 @@ fn main() -> Result<()> {
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
         Some(Command::Synth(a)) => cli::synth::run(&a),
         Some(Command::Recover(a)) => cli::recover::run(&a),
+        Some(Command::Import(a)) => cli::import::run(&a),
         Some(Command::Fit(a)) => cli::fit::run(&a),
         Some(Command::Diagnose(a)) => cli::diagnose::run(&a),
         Some(Command::DiagnoseBench(a)) => cli::diagnose_bench::run(&a),

@@ -102,8 +102,27 @@ pub fn run_sweep(
     axes: [Axis; 3],
     progress: &(dyn Fn(usize) + Sync),
 ) -> Vec<SweepRow> {
+    run_sweep_points(model, initial, opts, &grid(axes), progress)
+}
+
+/// Runs the given drag points (a shard of a grid) in parallel, in their order.
+pub fn run_sweep_points(
+    model: &Model,
+    initial: &Initial,
+    opts: &RunOptions,
+    points: &[[f64; 3]],
+    progress: &(dyn Fn(usize) + Sync),
+) -> Vec<SweepRow> {
     let opts = RunOptions { sample_dt: None, track_validity: false, ..opts.clone() };
-    grid_map(axes, &|c| classify(model, initial, &opts, c), progress)
+    let done = AtomicUsize::new(0);
+    points
+        .par_iter()
+        .map(|&c| {
+            let row = classify(model, initial, &opts, c);
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            row
+        })
+        .collect()
 }
 
 /// One run with drag `c`, classified.
@@ -139,8 +158,11 @@ pub fn classify(model: &Model, initial: &Initial, opts: &RunOptions, c: [f64; 3]
     }
 }
 
+/// The sweep table's columns.
+pub const CSV_COLUMNS: &str = "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps";
+
 pub fn write_csv(out: &mut impl Write, rows: &[SweepRow]) -> io::Result<()> {
-    writeln!(out, "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps")?;
+    writeln!(out, "{CSV_COLUMNS}")?;
     for r in rows {
         writeln!(
             out,

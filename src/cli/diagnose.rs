@@ -3,22 +3,33 @@
 use super::diagnose_report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use super::progress::{LateBar, PERCENT_TEMPLATE, with_threads};
 use ringlab::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, DiagnoseOptions, DiagnoseProgress, Finding, diagnose};
 use ringlab::physics::EffectKind;
-use ringlab::recording::read_recording;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
-    /// The recording (format v1)
-    #[arg(value_name = "FILE.csv")]
-    pub file: PathBuf,
+    /// The recordings: format v1 or a tracker's file (see `ringlab import --help`). With more
+    /// than one (or --table, --shard) each gets a row, files in sorted order
+    #[arg(value_name = "FILE", required_unless_present = "merge")]
+    pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub import: super::import_args::ImportArgs,
+    /// Write one row per recording to this CSV (left_out, misfits, excess, noise, glitches,
+    /// mismatch window, seconds, error)
+    #[arg(long, value_name = "OUT.csv")]
+    pub table: Option<PathBuf>,
+    /// Diagnose only every N-th file from the I-th (I from 0), e.g. `--shard
+    /// $SLURM_ARRAY_TASK_ID/N` in a Slurm job array
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Join shard tables into --table (sorted by file; a file in two shards is an error)
+    #[arg(long, value_name = "TABLE.csv", num_args = 1.., requires = "table", conflicts_with_all = ["files", "shard"])]
+    pub merge: Vec<PathBuf>,
     /// Print the result as one JSON object
     #[arg(long)]
     pub json: bool,
@@ -207,7 +218,8 @@ pub fn parse_candidates(list: &str) -> Result<Vec<EffectKind>> {
     Ok(out)
 }
 
-pub fn run(args: &DiagnoseArgs) -> Result<()> {
+/// The options from the flags.
+pub fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions> {
     if !(args.evidence.is_finite() && args.evidence >= 0.0) {
         bail!("--evidence = {}: must be a number >= 0", args.evidence);
     }
@@ -215,50 +227,33 @@ pub fn run(args: &DiagnoseArgs) -> Result<()> {
     if let Some(list) = &args.candidates {
         opts.candidates = parse_candidates(list)?;
     }
-    let rec = read_recording(&args.file)?;
+    Ok(opts)
+}
 
-    let bar = ProgressBar::hidden();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} [{bar:30}] {percent:>3}% {elapsed} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    bar.set_length(1000);
-    let started = std::time::Instant::now();
-    let shown = Mutex::new(false);
-    let progress = |p: &DiagnoseProgress| {
-        if let Ok(mut s) = shown.lock()
-            && !*s
-            && started.elapsed() > Duration::from_millis(300)
-        {
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-            bar.enable_steady_tick(Duration::from_millis(120));
-            *s = true;
-        }
-        bar.set_message(p.message.clone());
-        let pos = (p.fraction.clamp(0.0, 1.0) * 1000.0) as u64;
-        if pos > bar.position() {
-            bar.set_position(pos);
-        }
-    };
+pub fn run(args: &DiagnoseArgs) -> Result<()> {
+    if !args.merge.is_empty() {
+        return super::diagnose_batch::merge(&args.merge, args.table.as_deref().context("--merge needs --table")?);
+    }
+    let opts = options(args)?;
+    if args.files.len() > 1 || args.table.is_some() || args.shard.is_some() {
+        return super::diagnose_batch::run(args, &opts);
+    }
+    let file = &args.files[0];
+    let rec = super::import_args::load_one(&args.import, file)?;
+    let bar = LateBar::new(PERCENT_TEMPLATE);
+    let progress = |p: &DiagnoseProgress| bar.update((p.fraction.clamp(0.0, 1.0) * 1000.0) as u64, 1000, p.message.clone());
     let cancel = AtomicBool::new(false);
-    let result = match args.threads {
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build()?;
-            pool.install(|| diagnose(&rec, &opts, &progress, &cancel))
-        }
-        None => diagnose(&rec, &opts, &progress, &cancel),
-    };
-    bar.finish_and_clear();
-    let d = result.with_context(|| format!("diagnosing {}", args.file.display()))?;
+    let result = with_threads(args.threads, || diagnose(&rec, &opts, &progress, &cancel))?;
+    bar.finish();
+    let d = result.with_context(|| format!("diagnosing {}", file.display()))?;
     if let Some(dir) = &args.report {
-        diagnose_report::write(dir, &args.file, &rec, &d).with_context(|| format!("writing the report into {}", dir.display()))?;
+        diagnose_report::write(dir, file, &rec, &d).with_context(|| format!("writing the report into {}", dir.display()))?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&DiagnoseJson::new(&d))?);
         return Ok(());
     }
-    print_summary(&args.file, &d);
+    print_summary(file, &d);
     if let Some(dir) = &args.report {
         println!("report: {}", dir.join("report.md").display());
     }

@@ -2,21 +2,19 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use ringlab::analysis::fit::{FitOptions, FitProgress, FitResult, FitStage, fit};
 use ringlab::physics::EffectKind;
-use ringlab::recording::read_recording;
 use serde::Serialize;
 use std::path::PathBuf;
-use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
-    /// The recording (format v1)
-    #[arg(value_name = "FILE.csv")]
+    /// The recording (format v1, or a tracker's file: see `ringlab import --help`)
+    #[arg(value_name = "FILE")]
     pub file: PathBuf,
+    #[command(flatten)]
+    pub import: super::import_args::ImportArgs,
     /// Print the result as one JSON object
     #[arg(long)]
     pub json: bool,
@@ -151,7 +149,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
     if !args.lens_k1.is_finite() {
         bail!("--lens-k1 = {}: must be a finite number", args.lens_k1);
     }
-    let rec = read_recording(&args.file)?;
+    let rec = super::import_args::load_one(&args.import, &args.file)?;
     let opts = FitOptions {
         segment_frames: args.segment_frames,
         merges: args.merges,
@@ -162,41 +160,17 @@ pub fn run(args: &FitArgs) -> Result<()> {
         ..FitOptions::default()
     };
 
-    // The bar appears only on a terminal and only once the fit has run for a moment.
-    let bar = ProgressBar::hidden();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {msg:<22} [{bar:30}] {pos}/{len} {elapsed}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    let started = std::time::Instant::now();
-    let shown = Mutex::new(false);
+    let bar = super::progress::LateBar::new(super::progress::COUNT_TEMPLATE);
     let progress = |p: &FitProgress| {
-        if let Ok(mut s) = shown.lock()
-            && !*s
-            && started.elapsed() > Duration::from_millis(300)
-        {
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-            bar.enable_steady_tick(Duration::from_millis(120));
-            *s = true;
-        }
         let msg = match (p.stage, p.rms_px) {
             (FitStage::Refine, Some(rms)) => format!("{} {rms:.3} px", p.stage.describe()),
             (stage, _) => stage.describe().to_string(),
         };
-        bar.set_message(msg);
-        bar.set_length(p.total as u64);
-        bar.set_position(p.done as u64);
+        bar.update(p.done as u64, p.total as u64, msg);
     };
     let cancel = AtomicBool::new(false);
-    let result = match args.threads {
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build()?;
-            pool.install(|| fit(&rec, &opts, &progress, &cancel))
-        }
-        None => fit(&rec, &opts, &progress, &cancel),
-    };
-    bar.finish_and_clear();
+    let result = super::progress::with_threads(args.threads, || fit(&rec, &opts, &progress, &cancel))?;
+    bar.finish();
     let r = result.with_context(|| format!("fitting {}", args.file.display()))?;
     let report = FitReport::new(&r);
     if args.json {

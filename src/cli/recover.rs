@@ -4,16 +4,18 @@ use anyhow::{Context, Result};
 use clap::Args;
 use ringlab::physics::TurnKind;
 use ringlab::recording::motion_table::write_motion_csv;
-use ringlab::recording::{read_recording, recover};
+use ringlab::recording::recover;
 use serde::Serialize;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct RecoverArgs {
-    /// The recording (format v1)
-    #[arg(value_name = "FILE.csv")]
+    /// The recording (format v1, or a tracker's file: see `ringlab import --help`)
+    #[arg(value_name = "FILE")]
     pub file: PathBuf,
+    #[command(flatten)]
+    pub import: super::import_args::ImportArgs,
     /// Write the motion frame by frame (A, angles, v_p with sigmas; mm, s and model units)
     #[arg(long, value_name = "MOTION.csv")]
     pub out: Option<PathBuf>,
@@ -46,7 +48,7 @@ struct RecoverReport {
 }
 
 pub fn run(args: &RecoverArgs) -> Result<()> {
-    let rec = read_recording(&args.file)?;
+    let rec = super::import_args::load_one(&args.import, &args.file)?;
     let m = recover(&rec).with_context(|| format!("recovering the motion in {}", args.file.display()))?;
     let first = rec.first_frame as f64;
     let turn = |p: &ringlab::recording::recover::DataTurningPoint| TurnJson {

@@ -3,7 +3,8 @@
 use super::case_args::CaseArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use ringlab::analysis::sweep::{Axis, run_sweep, write_csv};
+use super::shard::{Shard, read_tables, write_table};
+use ringlab::analysis::sweep::{Axis, CSV_COLUMNS, grid, run_sweep_points, write_csv};
 use ringlab::physics::integrator::Tolerances;
 use ringlab::physics::RunOptions;
 use std::io::Write;
@@ -32,6 +33,13 @@ pub struct SweepArgs {
     /// Threads (default: all cores)
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Run only every N-th grid point from the I-th (I from 0, C1 slowest), e.g. `--shard
+    /// $SLURM_ARRAY_TASK_ID/N` in a Slurm job array; join the tables with --merge
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Join shard tables into --out (sorted as the grid; a missing or repeated point is an error)
+    #[arg(long, value_name = "TABLE.csv", num_args = 1.., conflicts_with = "shard")]
+    pub merge: Vec<PathBuf>,
     /// Output CSV
     #[arg(long, value_name = "FILE.csv")]
     pub out: PathBuf,
@@ -48,6 +56,10 @@ pub fn parse_range(s: &str, flag: &str) -> Result<(f64, f64)> {
 }
 
 pub fn run(args: &SweepArgs) -> Result<()> {
+    if !args.merge.is_empty() {
+        return merge(&args.merge, &args.out);
+    }
+    let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
     let case = args.case.case()?;
     if !(args.sweep_rtol > 0.0 && args.sweep_rtol < 1.0) {
         bail!("--sweep-rtol = {}: must lie in (0, 1)", args.sweep_rtol);
@@ -62,10 +74,11 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let axes = [axes[0], axes[1], axes[2]];
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build()?;
     let opts = RunOptions { tol: Tolerances { rtol: args.sweep_rtol, atol: 1e-10 }, ..case.opts.clone() };
-    let total = args.n.pow(3);
+    let points = Shard::pick(shard, &grid(axes));
+    let total = points.len();
     let clock = Instant::now();
     let rows = pool.install(|| {
-        run_sweep(&case.model, &case.initial, &opts, axes, &|done| {
+        run_sweep_points(&case.model, &case.initial, &opts, &points, &|done| {
             if done % 1024 == 0 || done == total {
                 eprint!("\r{done}/{total} runs");
             }
@@ -84,5 +97,50 @@ pub fn run(args: &SweepArgs) -> Result<()> {
         secs * 1e3 / total as f64,
         args.out.display()
     );
+    Ok(())
+}
+
+/// Joins shard tables of one grid: rows in grid order (C1 slowest), each point once, and the
+/// grid complete (every combination of the C1, C2 and C3 values seen).
+fn merge(tables: &[PathBuf], out: &std::path::Path) -> Result<()> {
+    let (header, rows) = read_tables(tables)?;
+    if header.join(",") != CSV_COLUMNS {
+        bail!("{}: not a table of `ringlab sweep` (its columns are {})", tables[0].display(), header.join(","));
+    }
+    let mut keyed = Vec::with_capacity(rows.len());
+    for r in &rows {
+        let mut c = [0.0f64; 3];
+        for (k, slot) in c.iter_mut().enumerate() {
+            let cell = r.cells.get(k).map_or("", String::as_str);
+            *slot = cell.parse().with_context(|| format!("{}:{}: c{} = '{cell}' is not a number", r.file.display(), r.line, k + 1))?;
+        }
+        keyed.push((c, r));
+    }
+    keyed.sort_by(|a, b| a.0.iter().zip(&b.0).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal));
+    for w in keyed.windows(2) {
+        if w[0].0 == w[1].0 {
+            let (a, b) = (w[0].1, w[1].1);
+            bail!("the point {:?} is in two tables: {}:{} and {}:{}", w[0].0, a.file.display(), a.line, b.file.display(), b.line);
+        }
+    }
+    let distinct = |k: usize| {
+        let mut v: Vec<f64> = keyed.iter().map(|(c, _)| c[k]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v.len()
+    };
+    let full = distinct(0) * distinct(1) * distinct(2);
+    if full != keyed.len() {
+        bail!(
+            "the tables hold {} of the {full} points of their grid ({} x {} x {} values): is a shard missing?",
+            keyed.len(),
+            distinct(0),
+            distinct(1),
+            distinct(2)
+        );
+    }
+    let sorted: Vec<_> = keyed.iter().map(|(_, r)| *r).collect();
+    write_table(out, &header, &sorted)?;
+    println!("{} runs from {} tables written to {}", sorted.len(), tables.len(), out.display());
     Ok(())
 }

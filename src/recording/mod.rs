@@ -18,6 +18,7 @@
 
 pub mod camera;
 pub mod glitches;
+pub mod import;
 pub mod marks;
 pub mod motion_table;
 pub mod noise;
