@@ -183,3 +183,25 @@ fn bad_case_files_are_named_with_the_file() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn sweep_shards_merge_into_the_whole_grid() {
+    let d = std::env::temp_dir().join(format!("ringlab-sweep-shards-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = |name: &str| d.join(name).display().to_string();
+    let whole = ringlab(&["sweep", "--n", "3", "--threads", "1", "--out", &p("whole.csv")]);
+    assert!(whole.status.success(), "{}", String::from_utf8_lossy(&whole.stderr));
+    for i in 0..3 {
+        let out = ringlab(&["sweep", "--n", "3", "--threads", "1", "--shard", &format!("{i}/3"), "--out", &p(&format!("s{i}.csv"))]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let rows = std::fs::read_to_string(p(&format!("s{i}.csv"))).unwrap().lines().count() - 1;
+        assert_eq!(rows, 9, "shard {i} takes every third of 27 points");
+    }
+    // Merged in any order, the shards give the whole sweep's table line for line.
+    let merged = ringlab(&["sweep", "--merge", &p("s2.csv"), &p("s0.csv"), &p("s1.csv"), "--out", &p("merged.csv")]);
+    assert!(merged.status.success(), "{}", String::from_utf8_lossy(&merged.stderr));
+    assert_eq!(std::fs::read_to_string(p("merged.csv")).unwrap(), std::fs::read_to_string(p("whole.csv")).unwrap());
+    assert_fails_with(&["sweep", "--merge", &p("s0.csv"), &p("s2.csv"), "--out", &p("m.csv")], "18 of the 27 points of their grid (point 1 is missing)");
+    assert_fails_with(&["sweep", "--merge", &p("s0.csv"), &p("whole.csv"), "--out", &p("m.csv")], "grid point 0 is in two tables");
+    assert_fails_with(&["sweep", "--shard", "3/3", "--out", &p("m.csv")], "0 <= I < N");
+}

@@ -158,15 +158,18 @@ pub fn classify(model: &Model, initial: &Initial, opts: &RunOptions, c: [f64; 3]
     }
 }
 
-/// The sweep table's columns.
-pub const CSV_COLUMNS: &str = "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps";
+/// The sweep table's columns: a row's place in the grid (`grid_index` of `grid_size`, C1
+/// slowest) lets shards of one grid be joined and checked complete.
+pub const CSV_COLUMNS: &str =
+    "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps,grid_index,grid_size";
 
-pub fn write_csv(out: &mut impl Write, rows: &[SweepRow]) -> io::Result<()> {
+/// Writes rows with their grid indices (`indices[i]` is row `i`'s place in a grid of `grid_size`).
+pub fn write_csv(out: &mut impl Write, rows: &[SweepRow], indices: &[usize], grid_size: usize) -> io::Result<()> {
     writeln!(out, "{CSV_COLUMNS}")?;
-    for r in rows {
+    for (r, index) in rows.iter().zip(indices) {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{index},{grid_size}",
             r.c[0],
             r.c[1],
             r.c[2],

@@ -120,7 +120,10 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
                 }
                 Err(e) => format!("error: {e:#}"),
             };
-            bar.println(&format!("{}: {said} [{seconds:.1} s]", file.display()));
+            match &outcome {
+                Ok(_) => bar.println(&format!("{}: {said} [{seconds:.1} s]", file.display())),
+                Err(_) => bar.println(&format!("{said} [{seconds:.1} s]")),
+            }
         }
     }
     bar.finish();
@@ -136,9 +139,13 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
 /// One file read and diagnosed; `progress` gets the fraction done.
 fn diagnose_file(args: &DiagnoseArgs, opts: &DiagnoseOptions, file: &Path, progress: &(dyn Fn(f64) + Sync)) -> Result<Diagnosis> {
     let imported = args.import.load(&[file.to_path_buf()])?;
+    for line in super::import_args::describe(&imported) {
+        eprintln!("{line}");
+    }
     let rec = imported.recording;
     let cancel = AtomicBool::new(false);
-    let d = with_threads(args.threads, || diagnose(&rec, opts, &|p| progress(p.fraction), &cancel))??;
+    let d = with_threads(args.threads, || diagnose(&rec, opts, &|p| progress(p.fraction), &cancel))?
+        .with_context(|| format!("diagnosing {}", file.display()))?;
     if let Some(dir) = &args.report {
         let stem = file.file_stem().map_or("recording".into(), |s| s.to_string_lossy().into_owned());
         let sub = dir.join(stem);

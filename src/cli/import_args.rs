@@ -129,7 +129,7 @@ impl ImportArgs {
 pub fn describe(imported: &Imported) -> Vec<String> {
     let r = &imported.report;
     if r.source == ringlab::recording::import::Source::Ringlab {
-        return Vec::new();
+        return r.notes.iter().map(|n| format!("note: {n}")).collect();
     }
     let rec = &imported.recording;
     let usable = rec.frames.iter().filter(|f| ringlab::recording::is_usable(f)).count();

@@ -74,7 +74,9 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let axes = [axes[0], axes[1], axes[2]];
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build()?;
     let opts = RunOptions { tol: Tolerances { rtol: args.sweep_rtol, atol: 1e-10 }, ..case.opts.clone() };
-    let points = Shard::pick(shard, &grid(axes));
+    let all = grid(axes);
+    let indices = Shard::pick(shard, &(0..all.len()).collect::<Vec<_>>());
+    let points: Vec<[f64; 3]> = indices.iter().map(|&i| all[i]).collect();
     let total = points.len();
     let clock = Instant::now();
     let rows = pool.install(|| {
@@ -88,7 +90,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     eprintln!();
     let file = std::fs::File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut w = std::io::BufWriter::new(file);
-    write_csv(&mut w, &rows)?;
+    write_csv(&mut w, &rows, &indices, all.len())?;
     w.flush()?;
     let retro = rows.iter().filter(|r| r.retrograde_turn).count();
     println!(
@@ -100,44 +102,48 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     Ok(())
 }
 
-/// Joins shard tables of one grid: rows in grid order (C1 slowest), each point once, and the
-/// grid complete (every combination of the C1, C2 and C3 values seen).
+/// Joins shard tables of one grid: rows in grid order, each point once, none missing.
 fn merge(tables: &[PathBuf], out: &std::path::Path) -> Result<()> {
     let (header, rows) = read_tables(tables)?;
     if header.join(",") != CSV_COLUMNS {
         bail!("{}: not a table of `ringlab sweep` (its columns are {})", tables[0].display(), header.join(","));
     }
+    let n = header.len();
+    let whole = |r: &super::shard::TableRow, k: usize| -> Result<usize> {
+        let cell = r.cells.get(k).map_or("", String::as_str);
+        cell.parse().with_context(|| format!("{}:{}: {} = '{cell}' is not a whole number", r.file.display(), r.line, header[k]))
+    };
+    let mut size = None;
     let mut keyed = Vec::with_capacity(rows.len());
     for r in &rows {
-        let mut c = [0.0f64; 3];
-        for (k, slot) in c.iter_mut().enumerate() {
-            let cell = r.cells.get(k).map_or("", String::as_str);
-            *slot = cell.parse().with_context(|| format!("{}:{}: c{} = '{cell}' is not a number", r.file.display(), r.line, k + 1))?;
+        let (index, this) = (whole(r, n - 2)?, whole(r, n - 1)?);
+        match size {
+            None => size = Some((this, r)),
+            Some((s, first)) if s != this => bail!(
+                "{}:{} is from a grid of {this} points, {}:{} from one of {s}: tables of different sweeps",
+                r.file.display(),
+                r.line,
+                first.file.display(),
+                first.line
+            ),
+            _ => {}
         }
-        keyed.push((c, r));
+        if index >= this {
+            bail!("{}:{}: grid_index {index} is not below grid_size {this}", r.file.display(), r.line);
+        }
+        keyed.push((index, r));
     }
-    keyed.sort_by(|a, b| a.0.iter().zip(&b.0).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal));
+    keyed.sort_by_key(|(i, _)| *i);
     for w in keyed.windows(2) {
         if w[0].0 == w[1].0 {
             let (a, b) = (w[0].1, w[1].1);
-            bail!("the point {:?} is in two tables: {}:{} and {}:{}", w[0].0, a.file.display(), a.line, b.file.display(), b.line);
+            bail!("grid point {} is in two tables: {}:{} and {}:{}", w[0].0, a.file.display(), a.line, b.file.display(), b.line);
         }
     }
-    let distinct = |k: usize| {
-        let mut v: Vec<f64> = keyed.iter().map(|(c, _)| c[k]).collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup();
-        v.len()
-    };
-    let full = distinct(0) * distinct(1) * distinct(2);
-    if full != keyed.len() {
-        bail!(
-            "the tables hold {} of the {full} points of their grid ({} x {} x {} values): is a shard missing?",
-            keyed.len(),
-            distinct(0),
-            distinct(1),
-            distinct(2)
-        );
+    let size = size.map_or(0, |s| s.0);
+    if keyed.len() != size {
+        let missing = (0..size).find(|i| keyed.binary_search_by_key(i, |(k, _)| *k).is_err()).unwrap_or(0);
+        bail!("the tables hold {} of the {size} points of their grid (point {missing} is missing): is a shard missing?", keyed.len());
     }
     let sorted: Vec<_> = keyed.iter().map(|(_, r)| *r).collect();
     write_table(out, &header, &sorted)?;

@@ -253,8 +253,7 @@ impl From<ReadError> for ImportError {
     }
 }
 
-/// Reads the files as one recording: format v1 as it is (options that would change it are
-/// refused), every other format through its reader and [`points::assemble`].
+/// Reads the files as one recording: format v1 as it is, every other format through its reader and [`points::assemble`].
 pub fn import(paths: &[PathBuf], from: Option<Format>, opts: &ImportOptions) -> Result<Imported, ImportError> {
     let first = paths.first().ok_or_else(|| {
         ImportError::new(Path::new("-"), None, ImportErrorKind::BadOption("no file given".into()))
@@ -311,8 +310,8 @@ pub fn import(paths: &[PathBuf], from: Option<Format>, opts: &ImportOptions) -> 
     points::assemble(tracks, source, paths, opts)
 }
 
-/// A v1 file, read as it is; options that would rewrite its header are refused rather than
-/// silently ignored.
+/// A v1 file, read as it is: its header says everything, so options meant for trackers' files
+/// (a folder may hold both) are not applied to it, and that is said.
 fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Imported, ImportError> {
     let set: Vec<&str> = [
         ("--fps", opts.fps.is_some()),
@@ -327,18 +326,18 @@ fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Impor
     .filter(|(_, on)| *on)
     .map(|(n, _)| *n)
     .collect();
-    if !set.is_empty() {
-        let msg = format!("this is a ringlab v1 recording, whose header already says everything; leave out {}", set.join(", "));
-        return Err(ImportError::new(path, None, ImportErrorKind::BadOption(msg)));
-    }
     let recording = parse_recording(bytes, path)?;
+    let mut notes = Vec::new();
+    if !set.is_empty() {
+        notes.push(format!("{}: a ringlab v1 recording, read by its own header ({} not applied)", path.display(), set.join(", ")));
+    }
     let report = ImportReport {
         source: Source::Ringlab,
         files: vec![path.to_path_buf()],
         marks: (1..=4).map(|i| format!("mark {i}")).collect(),
         low_likelihood: 0,
         blank: 0,
-        notes: Vec::new(),
+        notes,
     };
     Ok(Imported { recording, report })
 }
