@@ -513,7 +513,7 @@ fn import_command_writes_a_recording_that_fit_and_diagnose_read_alike() {
     let r = common::ringlab(&["fit", &o, "--fps", "250", "--json"]);
     assert!(r.status.success());
     let err = String::from_utf8_lossy(&r.stderr);
-    assert!(err.contains("a ringlab v1 recording, read by its own header (--fps not applied)"), "{err}");
+    assert!(err.contains("a ringlab v1 recording, read by its own header (the given fps not applied)"), "{err}");
     common::assert_fails_with(&["import", &s(&dlc), "--out", &o, "--from", "excel"], &["--from 'excel'", "dlc, tracker, trackmate, csv"]);
 }
 

@@ -165,3 +165,58 @@ fn the_file_menu_closes_a_recording() {
     assert!(h.state().recording.loaded().is_none());
     assert!(h.query_by_label("No recording loaded.").is_some());
 }
+
+#[test]
+fn a_dropped_deeplabcut_file_asks_for_what_it_lacks_and_remembers_it() {
+    let rec = ringlab::recording::read_recording(&common::test_data("sample-ring.csv")).unwrap();
+    let short = ringlab::recording::Recording { frames: rec.frames[..600].to_vec(), ..rec };
+    let dir = temp_dir("dlc-window");
+    let file = dir.join("tracked.csv");
+    std::fs::write(&file, common::deeplabcut_text(&short)).unwrap();
+
+    let mut h = harness();
+    h.run_steps(2);
+    drop_file(&mut h, &file);
+    assert!(h.state().recording.loaded().is_none());
+    assert!(h.state().recording.pending_import().is_some(), "the file waits for its options");
+    assert!(h.query_by_label("Open a tracker's file").is_some(), "the dialog is shown");
+    assert!(h.query_by_label_contains("frame rate is not in the file").is_some());
+
+    // A field that does not parse is named, and nothing is read.
+    h.state_mut().settings.import.fps = "three hundred".into();
+    h.get_by_label("Open").click();
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("frames per second: 'three hundred' is not a positive number").is_some());
+    assert!(h.state().recording.loaded().is_none());
+
+    {
+        let form = &mut h.state_mut().settings.import;
+        form.fps = "300".into();
+        form.px_per_mm = "3.364764".into();
+        form.shape = "ring".into();
+        form.outer_radius_mm = "20.66".into();
+        form.width_mm = "18".into();
+        form.thickness_mm = "1".into();
+    }
+    // (The window re-centres on its new size a frame after it grew.)
+    h.run_steps(2);
+    h.get_by_label("Open").click();
+    h.run_steps(3);
+    let app = h.state();
+    assert!(app.recording.pending_import().is_none(), "the dialog is gone: {:?} {:?}", app.recording.pending_import(), app.import_problem_text());
+    let l = app.recording.loaded().expect("read with the options");
+    assert_eq!(l.frames().len(), 600);
+    assert_eq!(l.recording.header.fps, 300.0);
+    assert!(h.query_by_label_contains("DeepLabCut CSV; marks 1-4: m1, m2, m3, m4").is_some());
+
+    // The next file of the lab is read with what was given, without asking.
+    h.state_mut().recording.close();
+    let second = dir.join("tracked-again.csv");
+    std::fs::copy(&file, &second).unwrap();
+    drop_file(&mut h, &second);
+    assert!(h.state().recording.pending_import().is_none());
+    assert!(h.state().recording.loaded().is_some_and(|l| l.path == second));
+    // And it is kept with the settings, for the next session.
+    let restored = RinglabApp::new(h.state().settings.clone(), Mode::Fixed { seconds: 1.0 });
+    assert_eq!(restored.recording.import_options.fps, Some(300.0));
+}

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use ringlab::config::load_preset;
-use ringlab::physics::{Shape, Units};
+use ringlab::physics::Shape;
 use ringlab::recording::import::{BodyMm, Format, ImportOptions, Imported, LengthUnit, import};
 use std::path::PathBuf;
 
@@ -71,16 +71,7 @@ impl ImportArgs {
     /// The body from `--preset` or the body flags (none when neither is given).
     pub fn body(&self) -> Result<Option<BodyMm>> {
         if let Some(name) = &self.preset {
-            let case = load_preset(name)?.build().map_err(anyhow::Error::msg)?.in_units(Units::MM_S).map_err(anyhow::Error::msg)?;
-            let b = case.model.body;
-            // Presets in model units come back with the conversion's last-digit noise.
-            let mm = |x: f64| (x * 1e9).round() / 1e9;
-            return Ok(Some(BodyMm {
-                shape: b.shape,
-                outer_radius_mm: mm(b.r),
-                width_mm: mm(b.h),
-                thickness_mm: (b.shape == Shape::Ring).then_some(mm(b.w)),
-            }));
+            return Ok(Some(BodyMm::of_case(&load_preset(name)?).map_err(anyhow::Error::msg)?));
         }
         let any = self.shape.is_some() || self.outer_radius_mm.is_some() || self.width_mm.is_some() || self.thickness_mm.is_some();
         if !any {

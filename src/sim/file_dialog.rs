@@ -74,8 +74,8 @@ pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
             v.clear();
         }
         let picked = rfd::FileDialog::new()
-            .set_title("Open a recording (format v1)")
-            .add_filter("recordings", &["csv"])
+            .set_title("Open a recording (format v1) or a tracker's file")
+            .add_filter("recordings and trackers' files", &["csv", "trk", "txt", "tsv"])
             .add_filter("all files", &["*"])
             .pick_file();
         match picked {

@@ -20,6 +20,6 @@ pub mod worker;
 
 pub use job::{Job, JobContext, JobLost, Progress};
 pub use player::{Player, SPEED_MAX, SPEED_MIN};
-pub use recorded::{Diagnosed, DiagnosedModel, LoadError, LoadedRecording, RecordingSession, SessionEvent};
+pub use recorded::{Diagnosed, DiagnosedModel, LoadError, LoadedRecording, PendingImport, RecordingSession, SessionEvent};
 pub use track::{PathPoint, StateAt, Track};
 pub use worker::{CHANNEL_CAPACITY, Event, RunEnd, SimHandle, Start};

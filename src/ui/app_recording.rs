@@ -3,6 +3,7 @@
 //! (the recording's and the diagnosis's).
 
 use super::diagnose_panel::DiagnoseAction;
+use super::import_dialog::{ImportDialogAction, import_dialog_ui};
 use super::recording_panel::RecordingAction;
 use super::{RinglabApp, SideTab};
 use crate::config::CaseFile;
@@ -23,6 +24,24 @@ impl RinglabApp {
         let dropped: Vec<std::path::PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
         if let Some(first) = dropped.into_iter().next() {
             self.open_recording(first);
+        }
+    }
+
+    /// The import dialog's complaint about its fields, if any.
+    pub fn import_problem_text(&self) -> Option<&str> {
+        self.import_problem.as_deref()
+    }
+
+    /// The dialog for a tracker's file that needs options, while one waits.
+    pub(super) fn import_dialog(&mut self, ctx: &egui::Context) {
+        let Some(pending) = self.recording.pending_import().cloned() else { return };
+        match import_dialog_ui(ctx, &pending, &mut self.settings.import, &mut self.import_problem) {
+            Some(ImportDialogAction::Open(format, opts)) => {
+                self.recording.retry_import(format, opts);
+                self.take_recording_events();
+            }
+            Some(ImportDialogAction::Cancel) => self.recording.dismiss_import(),
+            None => {}
         }
     }
 

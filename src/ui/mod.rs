@@ -7,6 +7,7 @@
 
 pub mod controls;
 pub mod diagnose_panel;
+pub mod import_dialog;
 pub mod lean_paint;
 pub mod palette;
 mod app_recording;
@@ -118,6 +119,8 @@ pub struct RinglabApp {
     /// Time from the last parameter change to the first frame that showed its run.
     pub last_restart_latency: Option<Duration>,
     style_set: bool,
+    /// The import dialog's complaint about its fields, until the next try.
+    import_problem: Option<String>,
 }
 
 impl RinglabApp {
@@ -137,8 +140,15 @@ impl RinglabApp {
             restart_shown: None,
             last_restart_latency: None,
             style_set: false,
+            import_problem: None,
         };
         app.player.set_speed(app.settings.speed);
+        // What the last tracker's file needed is used again (fields that no longer parse are
+        // left to the dialog to complain about).
+        if let Ok((format, opts)) = app.settings.import.to_options() {
+            app.recording.import_format = format;
+            app.recording.import_options = opts;
+        }
         app.rebuild_runs();
         if let Mode::Fixed { seconds } = mode {
             app.player.pause();
@@ -409,6 +419,7 @@ impl RinglabApp {
         });
         egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
 
+        self.import_dialog(ui.ctx());
         recording_panel::drop_hint_ui(ui.ctx());
         lean_paint::hand_over(ui.ctx());
 

@@ -7,6 +7,7 @@ use super::palette::DATA_COLOR;
 use crate::recording::marks::MarkOrder;
 use crate::sim::{LoadedRecording, RecordingSession};
 use crate::sim::recorded::Fitted;
+use crate::recording::import::Source;
 use eframe::egui::{self, Color32, RichText};
 
 /// What the user asked for.
@@ -28,7 +29,7 @@ pub fn file_menu_ui(ui: &mut egui::Ui, session: &RecordingSession) -> RecordingA
     let mut action = RecordingAction::None;
     ui.menu_button("File", |ui| {
         let open = ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…"));
-        if open.on_hover_text("a recording of a ring's marks (format v1, .csv); or drop the file onto the window").clicked() {
+        if open.on_hover_text("a recording of a ring's marks (format v1), or a tracker's file (DeepLabCut, Tracker, TrackMate, a plain CSV); or drop the file onto the window").clicked() {
             action = RecordingAction::Open;
             ui.close();
         }
@@ -78,7 +79,7 @@ pub fn recording_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, fit_in_
     }
     let Some(l) = session.loaded() else {
         ui.label("No recording loaded.");
-        ui.label(RichText::new("File > Open recording…, or drop a recording (format v1, .csv) onto the window.").small());
+        ui.label(RichText::new("File > Open recording…, or drop a recording (format v1, or a DeepLabCut, Tracker or TrackMate file) onto the window.").small());
         if ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…")).clicked() {
             action = RecordingAction::Open;
         }
@@ -134,6 +135,16 @@ fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
     let m = &l.motion;
     egui::Grid::new("recording-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
         row(ui, "frames", format!("{} at {} fps ({:.2} s)", l.frames().len(), h.fps, l.duration_s()));
+        let read = &l.import;
+        if read.source != Source::Ringlab {
+            row(ui, "read as", format!("{}; marks 1-4: {}", read.source.name(), read.marks.join(", ")));
+            if read.low_likelihood > 0 {
+                row(ui, "dropped", format!("{} points below the likelihood threshold", read.low_likelihood));
+            }
+        }
+        for n in &read.notes {
+            row(ui, "note", n.clone());
+        }
         let wall = h.thickness_mm.map(|w| format!(", wall {w} mm")).unwrap_or_default();
         row(ui, "body", format!("{}, outer radius {} mm, width {} mm{wall}", h.shape.name(), h.outer_radius_mm, h.width_mm));
         row(ui, "scale", format!("{} px/mm", h.px_per_mm));

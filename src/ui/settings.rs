@@ -27,6 +27,8 @@ pub struct Settings {
     pub continue_on_change: bool,
     /// How many pixels the 3D view draws.
     pub detail_3d: Detail3d,
+    /// What the last tracker's file needed (frame rate, scale, body, marks).
+    pub import: super::import_dialog::ImportForm,
 }
 
 /// The 3D view's resolution: every pixel of the view, or fewer (scaled up when shown) where
@@ -87,6 +89,7 @@ impl Default for Settings {
             show_why: false,
             continue_on_change: false,
             detail_3d: Detail3d::Auto,
+            import: Default::default(),
         }
     }
 }

@@ -74,3 +74,26 @@ impl Reference {
         line.rsplit("t=").next().expect("t=").trim().parse().expect("end time")
     }
 }
+
+/// A DeepLabCut CSV of a recording's marks (bodyparts m1..m4, likelihood 0.99; blank cells
+/// where a mark is missing).
+pub fn deeplabcut_text(rec: &ringlab::recording::Recording) -> String {
+    let mut s = String::from("scorer,DLC,DLC,DLC,DLC,DLC,DLC,DLC,DLC,DLC,DLC,DLC,DLC\nbodyparts");
+    for k in 1..=4 {
+        s.push_str(&format!(",m{k},m{k},m{k}"));
+    }
+    s.push_str("\ncoords");
+    s.push_str(&",x,y,likelihood".repeat(4));
+    s.push('\n');
+    for (i, f) in rec.frames.iter().enumerate() {
+        s.push_str(&i.to_string());
+        for p in f {
+            match p {
+                Some([x, y]) => s.push_str(&format!(",{x:.3},{y:.3},0.99")),
+                None => s.push_str(",,,"),
+            }
+        }
+        s.push('\n');
+    }
+    s
+}

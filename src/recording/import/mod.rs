@@ -115,6 +115,21 @@ pub struct BodyMm {
     pub thickness_mm: Option<f64>,
 }
 
+impl BodyMm {
+    /// The body of a case (a preset), in mm.
+    pub fn of_case(case: &crate::config::CaseFile) -> Result<BodyMm, String> {
+        let b = case.build()?.in_units(crate::physics::Units::MM_S)?.model.body;
+        // Presets in model units come back with the conversion's last-digit noise.
+        let mm = |x: f64| (x * 1e9).round() / 1e9;
+        Ok(BodyMm {
+            shape: b.shape,
+            outer_radius_mm: mm(b.r),
+            width_mm: mm(b.h),
+            thickness_mm: (b.shape == Shape::Ring).then_some(mm(b.w)),
+        })
+    }
+}
+
 /// What the files may not say, from the user.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImportOptions {
@@ -241,6 +256,30 @@ pub enum ImportErrorKind {
     Recording(ReadErrorKind),
 }
 
+impl ImportErrorKind {
+    /// Whether the user can put it right with the import's options (the window then asks for
+    /// them), rather than by mending the file.
+    pub fn needs_options(&self) -> bool {
+        use ImportErrorKind as K;
+        matches!(
+            self,
+            K::UnknownFormat
+                | K::MissingFps
+                | K::MissingScale
+                | K::MissingBody
+                | K::MissingUnit(_)
+                | K::UnitConflict { .. }
+                | K::UnknownMark { .. }
+                | K::BadMarks(_)
+                | K::NotCyclic { .. }
+                | K::TooFewPoints { .. }
+                | K::MissingColumn { .. }
+                | K::BadOption(_)
+                | K::OffGrid { .. }
+        )
+    }
+}
+
 impl ImportError {
     pub fn new(path: &Path, line: Option<usize>, kind: ImportErrorKind) -> ImportError {
         ImportError { path: path.to_path_buf(), line, kind }
@@ -314,13 +353,13 @@ pub fn import(paths: &[PathBuf], from: Option<Format>, opts: &ImportOptions) -> 
 /// (a folder may hold both) are not applied to it, and that is said.
 fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Imported, ImportError> {
     let set: Vec<&str> = [
-        ("--fps", opts.fps.is_some()),
-        ("--px-per-mm", opts.px_per_mm.is_some()),
-        ("--marks", opts.marks.is_some()),
-        ("the body", opts.body.is_some()),
-        ("--columns", opts.columns.is_some()),
-        ("--unit", opts.unit.is_some()),
-        ("--y-up", opts.y_up),
+        ("fps", opts.fps.is_some()),
+        ("px per mm", opts.px_per_mm.is_some()),
+        ("marks", opts.marks.is_some()),
+        ("body", opts.body.is_some()),
+        ("columns", opts.columns.is_some()),
+        ("unit", opts.unit.is_some()),
+        ("y up", opts.y_up),
     ]
     .iter()
     .filter(|(_, on)| *on)
@@ -329,7 +368,7 @@ fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Impor
     let recording = parse_recording(bytes, path)?;
     let mut notes = Vec::new();
     if !set.is_empty() {
-        notes.push(format!("{}: a ringlab v1 recording, read by its own header ({} not applied)", path.display(), set.join(", ")));
+        notes.push(format!("{}: a ringlab v1 recording, read by its own header (the given {} not applied)", path.display(), set.join(", ")));
     }
     let report = ImportReport {
         source: Source::Ringlab,

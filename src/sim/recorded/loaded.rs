@@ -7,7 +7,8 @@ use crate::config::{BodySection, CaseFile, DragSection, EffectsSection, InitialS
 use crate::physics::model::ix;
 use crate::physics::{Body, EffectKind, Initial, Units, paper};
 use crate::recording::recover::{FrameMotion, RecoverError};
-use crate::recording::{ReadError, Recording, RecoveredMotion, read_recording, recover};
+use crate::recording::import::{Format, ImportError, ImportOptions, ImportReport, import};
+use crate::recording::{Recording, RecoveredMotion, recover};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use thiserror::Error;
@@ -16,7 +17,7 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum LoadError {
     #[error(transparent)]
-    Read(#[from] ReadError),
+    Read(#[from] ImportError),
     #[error("{}: {source}", path.display())]
     Recover { path: PathBuf, source: RecoverError },
 }
@@ -26,14 +27,23 @@ pub struct LoadedRecording {
     pub path: PathBuf,
     pub recording: Arc<Recording>,
     pub motion: RecoveredMotion,
+    /// How the file was read (a tracker's file: its marks, what was dropped, notes).
+    pub import: ImportReport,
 }
 
 impl LoadedRecording {
-    /// Reads and recovers (slow for long recordings: run it as a job).
+    /// Reads a recording (format v1) and recovers its motion (slow for long recordings: run
+    /// it as a job).
     pub fn load(path: &Path) -> Result<LoadedRecording, LoadError> {
-        let recording = read_recording(path)?;
+        Self::import(path, None, &ImportOptions::default())
+    }
+
+    /// Reads any file `ringlab import` reads, with what the file does not say in `opts`.
+    pub fn import(path: &Path, format: Option<Format>, opts: &ImportOptions) -> Result<LoadedRecording, LoadError> {
+        let imported = import(&[path.to_path_buf()], format, opts)?;
+        let recording = imported.recording;
         let motion = recover(&recording).map_err(|source| LoadError::Recover { path: path.to_path_buf(), source })?;
-        Ok(LoadedRecording { path: path.to_path_buf(), recording: Arc::new(recording), motion })
+        Ok(LoadedRecording { path: path.to_path_buf(), recording: Arc::new(recording), motion, import: imported.report })
     }
 
     /// The file's name, for labels.

@@ -22,6 +22,7 @@ use super::job::{Job, JobLost, Progress};
 use crate::analysis::diagnose::{DiagnoseError, Diagnosis};
 use crate::analysis::fit::{FitError, FitResult};
 use crate::config::CaseFile;
+use crate::recording::import::{Format, ImportError, ImportOptions};
 use crate::recording::recover::{Angles, FrameMotion};
 use diagnosing::run_diagnose;
 use fitting::run_fit;
@@ -68,6 +69,18 @@ pub struct RecordingSession {
     pub error: Option<String>,
     /// Something to know that is no error (a cancelled fit, no dialog).
     pub note: Option<String>,
+    /// What trackers' files do not say, as last given (used for every file opened).
+    pub import_options: ImportOptions,
+    pub import_format: Option<Format>,
+    /// A tracker's file that needs options before it can be read: the window asks for them.
+    pending_import: Option<PendingImport>,
+}
+
+/// A file waiting for the import's options, and what was missing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingImport {
+    pub path: PathBuf,
+    pub error: ImportError,
 }
 
 impl RecordingSession {
@@ -84,7 +97,29 @@ impl RecordingSession {
             offset_s: 0.0,
             error: None,
             note: None,
+            import_options: ImportOptions::default(),
+            import_format: None,
+            pending_import: None,
         }
+    }
+
+    /// The file waiting for the import's options, if any.
+    pub fn pending_import(&self) -> Option<&PendingImport> {
+        self.pending_import.as_ref()
+    }
+
+    /// Reads the waiting file again with these options (remembered for the next files).
+    pub fn retry_import(&mut self, format: Option<Format>, options: ImportOptions) {
+        self.import_format = format;
+        self.import_options = options;
+        if let Some(p) = self.pending_import.take() {
+            self.open(p.path);
+        }
+    }
+
+    /// Gives up on the waiting file.
+    pub fn dismiss_import(&mut self) {
+        self.pending_import = None;
     }
 
     pub fn loaded(&self) -> Option<&LoadedRecording> {
@@ -150,8 +185,11 @@ impl RecordingSession {
     pub fn open(&mut self, path: PathBuf) {
         self.error = None;
         self.note = None;
+        self.pending_import = None;
         let p = path.clone();
-        self.loading = Some((path, Job::start("read-recording", self.background, move |_| LoadedRecording::load(&p))));
+        let (format, opts) = (self.import_format, self.import_options.clone());
+        let read = move |_: &_| LoadedRecording::import(&p, format, &opts);
+        self.loading = Some((path, Job::start("read-recording", self.background, read)));
     }
 
     /// Forgets the recording (a running fit or diagnosis stops).
@@ -241,6 +279,7 @@ impl RecordingSession {
             let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
             match done {
                 Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
+                Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => self.pending_import = Some(PendingImport { path, error: e }),
                 Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
                 Err(JobLost) => self.error = Some(format!("Could not open the recording {}: reading it failed unexpectedly", path.display())),
             }
