@@ -1,17 +1,14 @@
-//! ringlab: rolling rings and disks on a table, after Jalali, Sarebangholi & Alam,
-//! "Terminal retrograde turn of rolling rings".
+//! ringlab, the app: the live run of the model on a thread (`sim`), what the window does with
+//! a recording (`session`), the renderer (`render`, wgpu) and the window (`ui`, egui); the
+//! command line is the binary's (`src/cli`). The physics, recordings, fit and diagnosis are the
+//! `ringlab-core` crate's, re-exported here under their own names.
 //!
-//! Layout: `physics` is the model and its integrator (pure math); `analysis` sweeps, fits and
-//! diagnoses; `config` reads case files; `report` turns runs into JSON and CSV; `plot` draws
-//! the report figures; `sim` runs the model on a thread for the live view; `render` draws the
-//! scene (wgpu); `ui` is the window (egui). physics never uses sim, render or ui.
+//! Layers, lowest first: core < sim, session < render < ui < cli. `render` knows nothing of
+//! `ui`; `sim` and `session` know nothing of egui.
 
-pub mod analysis;
-pub mod config;
-pub mod physics;
-pub mod plot;
-pub mod recording;
+pub use ringlab_core::{analysis, config, physics, plot, recording, report};
+
 pub mod render;
-pub mod report;
+pub mod session;
 pub mod sim;
 pub mod ui;

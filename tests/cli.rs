@@ -109,7 +109,7 @@ fn effects_from_flags_and_from_a_case_file_agree_and_show_in_the_json() {
     // The same through a case file's [effects].
     let dir = std::env::temp_dir().join(format!("ringlab-fx-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets/paper-ring.toml")).unwrap();
+    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/crates/ringlab-core/assets/presets/paper-ring.toml")).unwrap();
     let path = dir.join("slip.toml");
     std::fs::write(&path, format!("{good}\n[effects]\nslip_mu = 0.4\n")).unwrap();
     let out = ringlab(&["simulate", "--json", "--config", path.to_str().unwrap()]);
@@ -156,7 +156,7 @@ fn bad_effects_are_named() {
 fn bad_case_files_are_named_with_the_file() {
     let dir = std::env::temp_dir().join(format!("ringlab-cfg-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets/paper-ring.toml")).unwrap();
+    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/crates/ringlab-core/assets/presets/paper-ring.toml")).unwrap();
     let cases: &[(&str, String, &str)] = &[
         ("missing.toml", String::new(), "cannot read"),
         ("syntax.toml", "name = ".to_string(), "syntax.toml"),

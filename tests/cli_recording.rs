@@ -109,7 +109,7 @@ fn bad_flags_are_named() {
     assert_fails_with(&["fit", s, "--c-start", "0.1,-0.2,0.3"], &["positive"]);
     assert_fails_with(&["fit", s, "--effect", "wind"], &["--effect 'wind'"]);
     assert_fails_with(&["fit", s, "--segment-frames", "4"], &["too short"]);
-    assert_fails_with(&["fit"], &["FILE.csv"]);
+    assert_fails_with(&["fit"], &["<FILE>"]);
     // The sliding contact: synth passes the run's refusal on, or makes the recording.
     let slip = ringlab(&["synth", "--effect", "slip", "--effect-strength", "0.3", "--t-end", "5", "--out", out]);
     let err = String::from_utf8_lossy(&slip.stderr);

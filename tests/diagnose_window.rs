@@ -10,7 +10,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ringlab::analysis::diagnose::concealed::concealed_recording;
 use ringlab::physics::EffectKind;
-use ringlab::sim::DiagnosedModel;
+use ringlab::session::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::{Mode, RinglabApp, Settings, SideTab};
 use std::path::PathBuf;

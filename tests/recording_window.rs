@@ -11,7 +11,7 @@ use common::Dropped;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ringlab::sim::RecordingSession;
+use ringlab::session::RecordingSession;
 use ringlab::ui::recording_panel::RecordingAction;
 use ringlab::ui::{Mode, RinglabApp, Settings, SideTab};
 use std::path::{Path, PathBuf};

@@ -117,7 +117,7 @@ fn app_diagnosed_reynolds_drag() {
     app.open_recording(path.clone());
     app.side_tab = ringlab::ui::SideTab::Diagnose;
     app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Diagnose);
-    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Adopt(ringlab::sim::DiagnosedModel::Improved));
+    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Adopt(ringlab::session::DiagnosedModel::Improved));
     assert!(app.recording.diagnosed().is_some_and(|d| d.improved.as_ref().is_ok_and(|c| *c == app.settings.case)));
     std::fs::remove_dir_all(&dir).ok();
     let mut harness = builder(w, h).build_ui_state(

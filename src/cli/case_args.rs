@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct CaseArgs {
-    /// A preset from assets/presets (see `ringlab presets`); default paper-ring
+    /// A preset from crates/ringlab-core/assets/presets (see `ringlab presets`); default paper-ring
     #[arg(long, conflicts_with = "config")]
     pub preset: Option<String>,
     /// A case file in the presets' TOML format

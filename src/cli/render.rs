@@ -7,7 +7,7 @@ use ringlab::config::{Case, load_preset};
 use ringlab::render::{Gpu, OrbitCamera, SceneRenderer, UiRenderer};
 use ringlab::sim::Track;
 use ringlab::ui::palette::BODY_LINEAR;
-use ringlab::sim::DiagnosedModel;
+use ringlab::session::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::recording_panel::RecordingAction;
 use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, SideTab, scene, trace_panel};

@@ -141,7 +141,7 @@ impl UiRenderer {
             s.animation_time = 0.0;
             s.visuals.text_cursor.blink = false;
         });
-        crate::ui::adapt_to_adapter(&ctx, &gpu.adapter);
+        super::adapter::adapt_to_adapter(&ctx, &gpu.adapter);
         UiRenderer { ctx, renderer, count_drawing: false, last_stats: Default::default() }
     }
 
@@ -172,7 +172,7 @@ impl UiRenderer {
         let jobs = self.ctx.tessellate(output.shapes, output.pixels_per_point);
         if self.count_drawing {
             // What egui-wgpu draws, and what the lean painter draws for it (on lavapipe).
-            let batch = crate::ui::lean_paint::last_batch(&self.ctx);
+            let batch = super::lean_paint::last_batch(&self.ctx);
             let ours: Vec<_> = batch.iter().flat_map(|b| b.primitives().cloned()).collect();
             self.last_stats = super::ui_stats::UiStats::of(&jobs).plus(&super::ui_stats::UiStats::of(&ours));
         }

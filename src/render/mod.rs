@@ -3,9 +3,11 @@
 //! or read back (headless PNGs, tests). The UI sees only [`SceneFrame`] (what to draw),
 //! [`SceneRenderer`] and the helpers here.
 
+pub mod adapter;
 pub mod callback;
 pub mod camera;
 pub mod headless;
+pub mod lean_paint;
 pub mod mesh;
 mod pipelines;
 pub mod pose;

@@ -3,7 +3,7 @@
 //! fragment shader was about 55% of all CPU time: lavapipe executes both sides of its
 //! uniform branches (texture filtering by hand or not, dithering or not) on every pixel.
 //!
-//! How it fits in egui: at the end of a frame, [`crate::ui`] takes the shapes out of egui's
+//! How it fits in egui: at the end of a frame, the window takes the shapes out of egui's
 //! layers, tessellates them itself into one [`UiBatch`], and puts back paint callbacks
 //! ([`batch_callback`]) where they were, so that the order of drawing (and our 3D view's own
 //! callback among egui's shapes) stays as it was. The callbacks draw the batch's meshes with

@@ -8,18 +8,14 @@
 //! its run's number, so states of a superseded run still in the channel are recognised and
 //! dropped.
 //!
-//! Other work off the UI thread is a [`Job`]: a recording read and its motion recovered, a fit,
-//! the file dialog ([`recorded`] holds a recording's state in the window, without egui).
+//! What the window does with a recording (read, fit, diagnose as jobs off the UI thread, the
+//! file dialog) is [`crate::session`]'s.
 
-pub mod file_dialog;
-pub mod job;
+pub mod event;
 pub mod player;
-pub mod recorded;
 pub mod track;
 pub mod worker;
 
-pub use job::{Job, JobContext, JobLost, Progress};
 pub use player::{Player, SPEED_MAX, SPEED_MIN};
-pub use recorded::{Diagnosed, DiagnosedModel, LoadError, LoadedRecording, PendingImport, RecordingSession, SessionEvent};
 pub use track::{PathPoint, StateAt, Track};
 pub use worker::{CHANNEL_CAPACITY, Event, RunEnd, SimHandle, Start};

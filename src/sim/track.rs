@@ -2,7 +2,7 @@
 //! intervals where the model is invalid, the phase analysis, and the state at any time between
 //! two received ones.
 
-use super::worker::{Event, RunEnd};
+use super::event::{Event, RunEnd};
 use crate::config::Case;
 use crate::physics::motion::{MotionAnalysis, Phase, analyze};
 use crate::physics::run::{IntervalTracker, TurnKind};

@@ -2,9 +2,10 @@
 //! (bounded: the back-pressure that keeps the worker a fixed number of states ahead of the
 //! display).
 
+pub use super::event::{Event, RunEnd};
 use super::track::Track;
 use crate::config::Case;
-use crate::physics::{EndReason, Interval, Sample, Simulation, StateVec, TurningPoint};
+use crate::physics::{Sample, Simulation, StateVec};
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -32,39 +33,6 @@ pub enum Start {
 
 enum Command {
     Run { run: u64, case: Box<Case>, start: Start },
-}
-
-/// How a run ended.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunEnd {
-    pub reason: EndReason,
-    pub t_end: f64,
-    /// Exact intervals where the model is invalid (from this run's start).
-    pub lift_off: Vec<Interval>,
-    pub slip: Vec<Interval>,
-}
-
-/// What the worker sends. States of one run arrive in time order, one per output time
-/// `t0 + k dt`, none missing; a turning point arrives before the first state after it.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Event {
-    Started { run: u64, start: Sample },
-    State { run: u64, sample: Sample },
-    Turn { run: u64, point: TurningPoint },
-    Ended { run: u64, end: RunEnd },
-    Failed { run: u64, message: String },
-}
-
-impl Event {
-    pub fn run(&self) -> u64 {
-        match self {
-            Event::Started { run, .. }
-            | Event::State { run, .. }
-            | Event::Turn { run, .. }
-            | Event::Ended { run, .. }
-            | Event::Failed { run, .. } => *run,
-        }
-    }
 }
 
 #[derive(Debug, Error)]

@@ -7,7 +7,7 @@ use super::import_dialog::{ImportDialogAction, import_dialog_ui};
 use super::recording_panel::RecordingAction;
 use super::{RinglabApp, SideTab};
 use crate::config::CaseFile;
-use crate::sim::SessionEvent;
+use crate::session::SessionEvent;
 use eframe::egui;
 
 impl RinglabApp {

@@ -8,7 +8,7 @@
 use super::palette::{BASELINE_COLOR, DATA_COLOR, IMPROVED_COLOR, MISMATCH_COLOR, MISMATCH_FILL};
 use super::plots::thin;
 use crate::analysis::diagnose::{Diagnosis, Finding};
-use crate::sim::{Diagnosed, DiagnosedModel, RecordingSession};
+use crate::session::{Diagnosed, DiagnosedModel, RecordingSession};
 use eframe::egui::{self, RichText};
 use egui_plot::{FilledArea, HLine, Line, Plot, PlotPoints, Points};
 

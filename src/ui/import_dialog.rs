@@ -6,7 +6,7 @@ use super::controls::preset_picker_ui;
 use crate::config::load_preset;
 use crate::physics::Shape;
 use crate::recording::import::{BodyMm, DEFAULT_MIN_LIKELIHOOD, Format, ImportOptions, LengthUnit};
-use crate::sim::PendingImport;
+use crate::session::PendingImport;
 use eframe::egui;
 use serde::{Deserialize, Serialize};
 

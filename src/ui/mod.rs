@@ -8,7 +8,9 @@
 pub mod controls;
 pub mod diagnose_panel;
 pub mod import_dialog;
-pub mod lean_paint;
+/// The adapter's adjustments and the lean painter live with the renderer; the window uses them.
+pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
+pub use crate::render::lean_paint;
 pub mod palette;
 mod app_recording;
 mod panels;
@@ -25,7 +27,8 @@ pub use settings::{Detail3d, FAST_3D_SCALE, SETTINGS_KEY, Settings};
 
 use crate::config::{Case, load_preset};
 use crate::render::OrbitCamera;
-use crate::sim::{Player, RecordingSession, SimHandle, Track};
+use crate::session::RecordingSession;
+use crate::sim::{Player, SimHandle, Track};
 use controls::Change;
 use eframe::egui;
 use settings::builtin;
@@ -451,38 +454,6 @@ impl eframe::App for RinglabApp {
     fn persist_egui_memory(&self) -> bool {
         false
     }
-}
-
-/// Adjusts egui to the adapter: on a software rasteriser (lavapipe) the feathered edges that
-/// anti-alias egui's lines and shapes roughly double its triangles, and every triangle is
-/// drawn on the CPU, so they are left out there, and so are rounded corners (fans of slivers).
-/// Remembers which it was for the 3D view's [`Detail3d::Auto`] ([`on_software_adapter`]),
-/// and there hands egui's shapes to our own lean painter ([`lean_paint`]), which
-/// [`crate::render::callback::install`] must have put into the renderer.
-pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
-    let software = adapter.device_type == eframe::wgpu::DeviceType::Cpu;
-    ctx.data_mut(|d| d.insert_temp(software_adapter_id(), software));
-    lean_paint::set_enabled(ctx, software);
-    if software {
-        ctx.tessellation_options_mut(|t| t.feathering = false);
-        ctx.all_styles_mut(|s| {
-            let v = &mut s.visuals;
-            for w in [&mut v.widgets.noninteractive, &mut v.widgets.inactive, &mut v.widgets.hovered, &mut v.widgets.active, &mut v.widgets.open] {
-                w.corner_radius = egui::CornerRadius::ZERO;
-            }
-            v.window_corner_radius = egui::CornerRadius::ZERO;
-            v.menu_corner_radius = egui::CornerRadius::ZERO;
-        });
-    }
-}
-
-fn software_adapter_id() -> egui::Id {
-    egui::Id::unique("ringlab-software-adapter")
-}
-
-/// Whether [`adapt_to_adapter`] found a software rasteriser.
-pub fn on_software_adapter(ctx: &egui::Context) -> bool {
-    ctx.data(|d| d.get_temp::<bool>(software_adapter_id())).unwrap_or(false)
 }
 
 /// Opens the window (`ringlab` with no arguments).

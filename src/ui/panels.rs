@@ -7,7 +7,8 @@ use super::recording_view::DataView;
 use super::{Detail3d, RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
 use crate::config::load_preset;
 use crate::render::OrbitCamera;
-use crate::sim::{DiagnosedModel, Track};
+use crate::session::DiagnosedModel;
+use crate::sim::Track;
 use eframe::egui::{self, RichText};
 
 impl RinglabApp {

@@ -5,8 +5,7 @@
 
 use super::palette::DATA_COLOR;
 use crate::recording::marks::MarkOrder;
-use crate::sim::{LoadedRecording, RecordingSession};
-use crate::sim::recorded::Fitted;
+use crate::session::{Fitted, LoadedRecording, RecordingSession};
 use crate::recording::import::Source;
 use eframe::egui::{self, Color32, RichText};
 

@@ -7,7 +7,7 @@ use super::plots::DataLine;
 use super::trace_panel::{Bounds, Overlay};
 use crate::physics::{Body, Conversion, Units};
 use crate::render::BodyPose;
-use crate::sim::RecordingSession;
+use crate::session::RecordingSession;
 
 pub struct DataView {
     pub name: String,

@@ -4,6 +4,10 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
+
+#[path = "../../crates/ringlab-core/tests/common/mod.rs"]
+mod data;
+pub use data::test_data;
 use std::process::{Command, Output};
 
 /// The `ringlab` binary run with `args`.
@@ -33,45 +37,6 @@ impl eframe::egui::DroppedFile for Dropped {
 
     fn bytes(&self) -> Result<Vec<u8>, String> {
         std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
-
-/// `tests/data/NAME` in the repository (copies of the project's shared data, so that a clone
-/// anywhere tests on its own).
-pub fn test_data(name: &str) -> PathBuf {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
-    assert!(p.is_file(), "{} not found", p.display());
-    p
-}
-
-/// The reference solution of the paper's case: column names and rows.
-pub struct Reference {
-    pub columns: Vec<String>,
-    pub rows: Vec<Vec<f64>>,
-}
-
-impl Reference {
-    pub fn load() -> Reference {
-        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable reference");
-        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-        let columns: Vec<String> = lines.next().expect("header").split(',').map(|s| s.trim().to_string()).collect();
-        let rows = lines
-            .filter(|l| !l.trim().is_empty())
-            .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().expect("number")).collect())
-            .collect();
-        Reference { columns, rows }
-    }
-
-    pub fn col(&self, name: &str) -> Vec<f64> {
-        let i = self.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
-        self.rows.iter().map(|r| r[i]).collect()
-    }
-
-    /// The end time stated in the file's second comment line.
-    pub fn end_time(&self) -> f64 {
-        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable");
-        let line = text.lines().find(|l| l.contains("run ends")).expect("end line");
-        line.rsplit("t=").next().expect("t=").trim().parse().expect("end time")
     }
 }
 

@@ -1,0 +1,306 @@
+//! The diagnosis in plain words: what was left out, how the mismatch's signature points to
+//! it, and the fitted parameter; numbers from the diagnosis itself.
+
+use super::result::{Diagnosis, Finding, ModelFit, Signature};
+use super::rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
+use crate::physics::effects::EffectKind;
+use std::fmt::Write;
+
+/// What each effect is, in a lab's words.
+pub fn describe(kind: EffectKind) -> &'static str {
+    match kind {
+        EffectKind::None => "nothing: the paper's model (pure rolling, quadratic air drag of eq. 5)",
+        EffectKind::ReynoldsDrag => "drag coefficients that grow as the ring slows down (C_i rising as the Reynolds number falls)",
+        EffectKind::RollingFriction => "rolling friction: a torque proportional to the normal force that resists the rolling",
+        EffectKind::PivotFriction => "pivot friction: a torque proportional to the normal force that resists spinning about the vertical",
+        EffectKind::Slip => "slipping at the contact: the ring slides where rolling would need more friction than the table gives",
+        EffectKind::TranslationalDrag => "air drag on the travel of the ring (on its centre of mass), not only on its rotation",
+        EffectKind::CameraDistortion => "the camera's radial lens distortion (a measurement effect; the physics is unchanged)",
+        EffectKind::CameraPerspective => "the camera's perspective: a pinhole at a finite distance, perhaps tilted, sees marks above the table magnified (a measurement effect)",
+    }
+}
+
+fn pm(v: f64, s: f64) -> String {
+    if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { format!("{} (uncertainty unknown)", sig(v)) }
+}
+
+/// Three significant digits, plain notation where readable.
+pub fn sig(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if (-4..6).contains(&mag) {
+        format!("{:.*}", (2 - mag).max(0) as usize, v)
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+fn end_clause(s: &Signature) -> String {
+    match (s.end_data_s, s.end_before_s) {
+        (Some(d), Some(b)) => format!(
+            " The recording's motion ends at {d:.2} s, the baseline's at {b:.2} s{}.",
+            s.end_after_s.map_or(String::new(), |a| format!(", the improved model's at {a:.2} s"))
+        ),
+        (Some(d), None) => format!(" The recording's motion ends at {d:.2} s; the baseline's runs on past the recording."),
+        _ => String::new(),
+    }
+}
+
+fn thirds(s: &Signature) -> String {
+    let [a, b, c] = s.thirds_rms_px;
+    format!("{a:.2}, {b:.2} and {c:.2} px rms in the first, middle and last third")
+}
+
+/// Where the baseline parts from the recording, in words.
+fn departure_words(d: &Diagnosis) -> String {
+    let s = &d.signature;
+    match s.departure_s {
+        Some(t) => format!(
+            "Fitted to a growing stretch from the start, the baseline follows the recording within its noise up to {t:.2} s ({:.0}% of the run) and no further; fitted to the whole run it misses by {}.",
+            100.0 * s.followed_share,
+            thirds(s)
+        ),
+        None => format!("The baseline, fitted to the whole run, misses by {}.", thirds(s)),
+    }
+}
+
+/// A length given as a fraction of the outer radius, in mm.
+fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
+    let r_mm = d.after.model.body.r * d.after.units.length_mm;
+    format!("{} mm", sig(k_over_r * r_mm))
+}
+
+/// Why the signature points to the named effect.
+fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
+    let s = &d.signature;
+    let strength = if d.after.effect == kind { d.after.strength } else { d.after.also.iter().find(|(k, _)| *k == kind).map(|x| x.1) }.map_or(f64::NAN, |x| x.0);
+    let late = if s.late_share > 0.5 { format!(" {:.0}% of the whole-run misfit beyond the noise lies in the last third.", 100.0 * s.late_share) } else { String::new() };
+    match kind {
+        EffectKind::ReynoldsDrag => format!(
+            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.",
+            end_clause(s)
+        ),
+        EffectKind::RollingFriction => format!(
+            "A rolling-resistance torque k F_N takes energy at a rate that does not grow with the square of the speed as air drag does, so the fitted drag cannot match the decay of the fast start and of the slow end together.{late}{} Here the normal force acts {} ahead of the contact point.",
+            end_clause(s),
+            arm_mm(d, strength)
+        ),
+        EffectKind::PivotFriction => format!(
+            "A drilling torque k F_N against the spin about the table normal slows the precession and turns the path's heading in a way the quadratic drag on the body's axes cannot imitate.{late}{} Here k = {} (contact-patch radius times a friction coefficient).",
+            end_clause(s),
+            arm_mm(d, strength)
+        ),
+        EffectKind::Slip => {
+            let slides = if s.slides_s.is_empty() {
+                "The improved model slides only briefly.".to_string()
+            } else {
+                let list: Vec<String> = s.slides_s.iter().take(6).map(|(a, b)| format!("{a:.3}-{b:.3} s")).collect();
+                format!(
+                    "The improved model slides {} time{} ({}{}), where rolling would need more friction than mu F_N: at the launch and at the cusps of the walk.",
+                    s.slides_s.len(),
+                    if s.slides_s.len() == 1 { "" } else { "s" },
+                    list.join(", "),
+                    if s.slides_s.len() > 6 { ", ..." } else { "" }
+                )
+            };
+            format!(
+                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides} The paper names slippage at cuspy turning points as a cause of its drift."
+            )
+        }
+        EffectKind::TranslationalDrag => format!(
+            "Air drag on the centre of mass slows the travel of the ring while the rotational drag of eq. 5 acts on its spin; the two leave different marks on the path's arcs, which the drag coefficients alone cannot reproduce.{late}{}",
+            end_clause(s)
+        ),
+        EffectKind::CameraDistortion => format!(
+            "The mismatch depends on where the ring is in the image rather than on when: {:.0}% of the baseline's squared residual points along the radius from the image centre (50% would mean no preference), and {:.0}% of the correction is radial. That is a lens's radial distortion (barrel for k1 < 0), the paper's 'image distortions'; the dynamics are unchanged.",
+            100.0 * s.radial_share,
+            100.0 * s.change_radial_share
+        ),
+        EffectKind::CameraPerspective => {
+            let distance = if strength > 0.0 { format!("{:.0} mm", 1000.0 / strength) } else { "far".into() };
+            let tilt = d.after.tilt_deg.map_or(String::new(), |(t, s)| format!(", tilted {} degrees from the vertical", pm(t, s)));
+            format!(
+                "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.",
+                100.0 * s.radial_share
+            )
+        }
+        EffectKind::None => String::new(),
+    }
+}
+
+/// The body's dimensions where they fit away from the header's (beyond 3 sigma and 0.5%).
+fn body_words(d: &Diagnosis) -> String {
+    let f = &d.after;
+    let mut out = String::new();
+    for (i, name) in ["outer radius", "width"].iter().enumerate() {
+        let (v, s) = f.body_mm[i];
+        let header = d.header_body_mm[i];
+        if (v - header).abs() > (3.0 * s).max(0.005 * header) {
+            let _ = write!(out, " The body's {name} fits as {v:.3} +- {s:.3} mm where the header says {header} mm: the header's value is off, or the marks do not sit where it implies.");
+        }
+    }
+    out
+}
+
+fn fitted(f: &ModelFit) -> String {
+    format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]))
+}
+
+/// The noise in words.
+fn noise_words(d: &Diagnosis) -> String {
+    let source = if d.noise_from_marks {
+        "the recording's pixel noise, estimated from each mark's track alone"
+    } else {
+        "the baseline's segment misfit; the tracks gave no noise estimate"
+    };
+    let glitches = match d.glitches.len() {
+        0 => String::new(),
+        n => format!("; {n} tracked position{} left out as the tracker's glitches", if n == 1 { "" } else { "s" }),
+    };
+    format!("{:.3} px ({source}{glitches})", d.noise_px)
+}
+
+/// The consistency test, in words.
+fn consistency_words(d: &Diagnosis) -> String {
+    let ratio = d.before.rms_px / d.noise_px.max(1e-12);
+    format!(
+        "The baseline misses by {:.3} px rms over the coordinates kept, {ratio:.2} times the noise; it counts as consistent with the noise up to {CONSISTENT_RATIO} times (an excess over the noise of {:.3} px here, {:.3} px allowed).",
+        d.before.rms_px,
+        d.excess_px(d.before.rms_px),
+        d.excess_px(CONSISTENT_RATIO * d.noise_px)
+    )
+}
+
+/// The best candidate against the naming rules, in words.
+fn runner_up_words(d: &Diagnosis, c: &super::result::Candidate) -> String {
+    let share = explained_share(d.before.rms_px, c.rms_px, d.noise_px);
+    if c.delta_score < -d.evidence {
+        format!(
+            " The best candidate, {}, earns its parameter by BIC ({:+.1} against the baseline) but reaches only {:.3} px: it explains {:.0}% of the squared misfit beyond the noise, and to be named an effect must explain at least {:.0}% and cut the excess {MIN_EXCESS_CUT} times or end within {CONSISTENT_RATIO} times the noise.",
+            c.effect,
+            c.delta_score,
+            c.rms_px,
+            100.0 * share,
+            100.0 * MIN_EXPLAINED
+        )
+    } else {
+        format!(
+            " No candidate lowers the misfit by more than its extra parameter costs: the best, {}, reaches {:.3} px (BIC {:+.1} against the baseline; {:.0} below is needed).",
+            c.effect, c.rms_px, c.delta_score, d.evidence
+        )
+    }
+}
+
+/// The explanation of a finished diagnosis (everything but the explanation filled in).
+pub fn explain(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    let noise = noise_words(d);
+    let named = d.finding.named();
+    let runner_up = d.candidates.iter().find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None);
+    let where_ = match &d.mismatch {
+        Some(m) => format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d)),
+        None => "The baseline follows the recording within its noise over the whole run.".to_string(),
+    };
+    match &d.finding {
+        Finding::Nothing => {
+            let _ = write!(
+                out,
+                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {} {where_}",
+                d.before.rms_px,
+                consistency_words(d)
+            );
+            if let Some(c) = runner_up {
+                out.push_str(&runner_up_words(d, c));
+            }
+            let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
+            return out;
+        }
+        Finding::Unexplained { partial } => {
+            let _ = write!(
+                out,
+                "Something was left out that none of the candidates explains. The paper's model misses the recording by {:.3} px rms over the whole run against a noise of {noise}: an excess of {:.3} px beyond the noise. {} {where_} {}",
+                d.before.rms_px,
+                d.excess_px(d.before.rms_px),
+                consistency_words(d),
+                residual_words(d)
+            );
+            match partial {
+                Some(p) => {
+                    let _ = write!(
+                        out,
+                        " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise, not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer.",
+                        100.0 * p.share,
+                        100.0 * MIN_EXPLAINED
+                    );
+                }
+                None => out.push_str(" No candidate explains any of it."),
+            }
+            if let Some(c) = runner_up {
+                out.push_str(&runner_up_words(d, c));
+            }
+            let _ = write!(
+                out,
+                " The start state and the body's radius and width were fitted with every model; what is missing is none of the effects tried (or not one of them alone). Fitted: {}.{}",
+                fitted(&d.before),
+                body_words(d)
+            );
+            return out;
+        }
+        Finding::Named(_) => {}
+    }
+    let kind = d.finding.first();
+    let excess_before = d.excess_px(d.before.rms_px);
+    let excess_after = d.excess_px(d.after.rms_px);
+    let names: Vec<String> = named.iter().map(|k| describe(*k).to_string()).collect();
+    let _ = write!(out, "Left out: {}. ", names.join("; and "));
+    let (value, sigma) = d.after.strength.unwrap_or((f64::NAN, f64::NAN));
+    let mut values: Vec<String> = d.after.also.iter().map(|(k, (v, s))| format!("{} = {}", k.parameter(), pm(*v, *s))).collect();
+    values.push(format!("{} = {}", d.after.effect.parameter(), pm(value, sigma)));
+    let _ = write!(
+        out,
+        "With {} ({}) the misfit over the whole run falls from {:.3} px to {:.3} px rms (noise {noise}); the excess over the noise from {excess_before:.3} px to {excess_after:.3} px.",
+        if named.len() > 1 { "them" } else { "it" },
+        values.join(", "),
+        d.before.rms_px,
+        d.after.rms_px
+    );
+    let delta = d.after.score - d.before.score;
+    match runner_up {
+        Some(c) => {
+            let _ = write!(out, " Its BIC is {delta:.1} against the baseline; the next candidate, {}, reaches {:.3} px ({:+.1}).", c.effect, c.rms_px, c.delta_score);
+        }
+        None => {
+            let _ = write!(out, " Its BIC is {delta:.1} against the baseline.");
+        }
+    }
+    let _ = write!(out, " {where_} {}", signature_words(kind, d));
+    if d.after.rms_px > CONSISTENT_RATIO * d.noise_px {
+        let _ = write!(
+            out,
+            " It leaves an excess of {excess_after:.3} px beyond the noise ({:.2} times the noise in all): the effect is there, but the model of it is not the whole story (another law of the same effect, or something more left out).",
+            d.after.rms_px / d.noise_px.max(1e-12)
+        );
+    }
+    let _ = write!(out, " Fitted with it: {}.{}", fitted(&d.after), body_words(d));
+    out
+}
+
+/// Where and how the baseline's residual departs, in words, for a finding no candidate names.
+fn residual_words(d: &Diagnosis) -> String {
+    let s = &d.signature;
+    let radial = if s.radial_share > 0.65 {
+        format!(" {:.0}% of its squared residual points along the radius from the image centre (50% is no preference): it depends on where the ring is in the image, as a camera's effects do.", 100.0 * s.radial_share)
+    } else if s.radial_share < 0.35 {
+        format!(" Only {:.0}% of its squared residual is radial from the image centre: it is across the radius, as a turn of the path is.", 100.0 * s.radial_share)
+    } else {
+        String::new()
+    };
+    let late = if s.late_share > 0.5 {
+        format!(" {:.0}% of the misfit beyond the noise lies in the last third of the run, where the ring slows.", 100.0 * s.late_share)
+    } else {
+        String::new()
+    };
+    format!("{late}{radial}{}", end_clause(s))
+}

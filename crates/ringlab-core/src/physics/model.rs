@@ -1,0 +1,381 @@
+//! The pure-rolling equations of motion (eqs. 3-5) and the contact force.
+//!
+//! State `y = [phi, theta, psi, w1, w2, w3, x_C, y_C]`, with `w = omega` in the Resal frame.
+//! `J w' = f(w, theta) + T` where `T` collects the torques of the force model: the paper's
+//! quadratic drag (eq. 5, `J^-1 T_drag = -C_i |w_i| w_i`) and the optional effects of
+//! [`Effects`], the one seam through which extra physics enters.
+
+use super::body::{Body, ParamError, check_finite, check_non_negative, check_positive};
+use super::integrator::System;
+use nalgebra::Vector3;
+
+/// Length of the rolling state vector.
+pub const STATE_LEN: usize = 8;
+pub type StateVec = [f64; STATE_LEN];
+
+/// Indices into the state vector.
+pub mod ix {
+    pub const PHI: usize = 0;
+    pub const THETA: usize = 1;
+    pub const PSI: usize = 2;
+    pub const W1: usize = 3;
+    pub const W2: usize = 4;
+    pub const W3: usize = 5;
+    pub const X: usize = 6;
+    pub const Y: usize = 7;
+}
+
+/// Drag coefficients that grow as the Reynolds number falls (the paper, section III: "as the
+/// motion of the ring slows down, Re decreases and the drag coefficients increase"):
+/// `C_i(Re) = C_i (Re_ref / Re)^n`, with the factor capped at `max_factor` because the power
+/// law (laminar skin friction gives `n` near 1/2, section IV) does not hold as `Re -> 0`.
+/// `Re = 2 |v_C| R / nu_air` is physical, the same in every unit system.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReynoldsDrag {
+    pub re_ref: f64,
+    pub exponent: f64,
+    pub max_factor: f64,
+}
+
+impl ReynoldsDrag {
+    /// The multiplier on `C_i` at Reynolds number `re`: `min((re_ref / re)^n, max_factor)`.
+    /// Continuous in `re` (the cap is reached at `re = re_ref max_factor^(-1/n)`), and
+    /// `max_factor` at `re = 0`.
+    #[inline]
+    pub fn factor(&self, re: f64) -> f64 {
+        if re <= 0.0 {
+            return self.max_factor;
+        }
+        (self.re_ref / re).powf(self.exponent).min(self.max_factor)
+    }
+}
+
+/// Physics beyond the paper's model. All off by default; each is switched on by a non-zero
+/// parameter (lengths in the model's units). See `effects.rs` for the named effects and
+/// their dimensionless strengths, `losses.rs` and `slip.rs` for the mechanics.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Effects {
+    /// Reynolds-dependent drag coefficients.
+    pub reynolds_drag: Option<ReynoldsDrag>,
+    /// Rolling resistance: a torque `-k F_N w_h/|w_h|` against the horizontal (rolling) part
+    /// `w_h` of omega; `k` is a length (the forward shift of the normal force in the contact).
+    pub rolling_friction: f64,
+    /// Pivot (drilling) friction: a torque `-k F_N sign(w . Z) Z` against spin about the
+    /// table normal; `k` is a length (contact-patch radius times a friction coefficient).
+    pub pivot_friction: f64,
+    /// Quadratic air drag on the centre of mass, `F = -k |v_C| v_C` per unit mass (`k` is
+    /// 1/length).
+    pub translational_drag: f64,
+    /// Sliding contact: Coulomb friction with this coefficient (static and kinetic alike)
+    /// once rolling would need more than it gives (None: pure rolling, the paper's model).
+    /// Handled by the run, which switches to a larger state while the contact slides.
+    pub slip_mu: Option<f64>,
+}
+
+impl Effects {
+    /// No effect at all in the rolling right-hand side (the sliding contact is handled by the
+    /// run, not here).
+    pub fn is_none(&self) -> bool {
+        self.reynolds_drag.is_none() && !self.has_contact_terms()
+    }
+
+    /// Whether the right-hand side needs its cold path: forces and torques that change the
+    /// contact force (all but the Reynolds scaling, which only rescales eq. 5).
+    #[inline]
+    pub fn has_contact_terms(&self) -> bool {
+        self.rolling_friction != 0.0 || self.pivot_friction != 0.0 || self.translational_drag != 0.0
+    }
+
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if let Some(r) = &self.reynolds_drag {
+            check_positive("reynolds_drag re_ref", r.re_ref)?;
+            check_non_negative("reynolds_drag exponent", r.exponent)?;
+            check_finite("reynolds_drag max_factor", r.max_factor)?;
+            if r.max_factor < 1.0 {
+                return Err(ParamError {
+                    name: "reynolds_drag max_factor",
+                    value: r.max_factor,
+                    reason: "must be at least 1 (the cap bounds the growth of C_i at low Re)",
+                });
+            }
+        }
+        check_non_negative("rolling_friction", self.rolling_friction)?;
+        check_non_negative("pivot_friction", self.pivot_friction)?;
+        check_non_negative("translational_drag", self.translational_drag)?;
+        if let Some(mu) = self.slip_mu {
+            check_non_negative("slip mu", mu)?;
+        }
+        Ok(())
+    }
+}
+
+/// The complete force model of one body on the table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    pub body: Body,
+    /// Gravity in the model's units.
+    pub g: f64,
+    /// Rotational drag coefficients `(C1, C2, C3)` of eq. 5 (dimensionless).
+    pub c_drag: [f64; 3],
+    /// Air's kinematic viscosity in the model's units (for `Re = 2 |v_C| R / nu`).
+    pub nu_air: f64,
+    pub effects: Effects,
+}
+
+/// Everything eqs. 3-5 give at one state: omega', the contact force and its parts.
+#[derive(Clone, Copy, Debug)]
+pub struct Dynamics {
+    pub omega_dot: Vector3<f64>,
+    /// Contact force on the body (per unit mass times m = 1), frame components.
+    pub force: Vector3<f64>,
+    pub f_n: f64,
+    pub f_f: f64,
+    pub f_1: f64,
+    /// Velocity of the centre of mass, frame components.
+    pub v_c: Vector3<f64>,
+    /// Torque of rolling and pivot friction on the body (frame components; zero without them).
+    pub contact_torque: Vector3<f64>,
+    /// Translational air drag on the centre of mass (frame components; zero without it).
+    pub drag_force: Vector3<f64>,
+}
+
+impl Model {
+    pub fn new(body: Body, g: f64, c_drag: [f64; 3], nu_air: f64) -> Result<Model, ParamError> {
+        check_positive("gravity g", g)?;
+        check_non_negative("drag C1", c_drag[0])?;
+        check_non_negative("drag C2", c_drag[1])?;
+        check_non_negative("drag C3", c_drag[2])?;
+        check_positive("air viscosity nu", nu_air)?;
+        Ok(Model { body, g, c_drag, nu_air, effects: Effects::default() })
+    }
+
+    /// Sets the effects after checking them against this body (see [`Model::check_effects`]).
+    pub fn with_effects(mut self, effects: Effects) -> Result<Model, ParamError> {
+        self.effects = effects;
+        self.check_effects()?;
+        Ok(self)
+    }
+
+    /// Checks the effects, including the limits that depend on the body: the closed-form
+    /// solve for `F_N` (`losses.rs`) needs the rolling-resistance arm below half of `|r_G|`,
+    /// and the sliding contact needs `mu` below the Painleve limit of the body (`slip.rs`).
+    pub fn check_effects(&self) -> Result<(), ParamError> {
+        self.effects.validate()?;
+        let r_g = self.body.r_g().norm();
+        if self.effects.rolling_friction > 0.5 * r_g {
+            return Err(ParamError {
+                name: "rolling_friction",
+                value: self.effects.rolling_friction,
+                reason: "must be below half the distance from contact to centre of mass (|r_G| / 2)",
+            });
+        }
+        if let Some(mu) = self.effects.slip_mu {
+            let limit = super::painleve::mu_limit(&self.body, self.effects.rolling_friction);
+            if mu >= limit {
+                return Err(ParamError {
+                    name: "slip mu",
+                    value: mu,
+                    reason: super::painleve::PAINLEVE_REASON,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Reynolds number `2 |v_C| R / nu_air` for a centre-of-mass speed.
+    pub fn reynolds(&self, speed_c: f64) -> f64 {
+        2.0 * speed_c * self.body.r / self.nu_air
+    }
+
+    /// The drag coefficients `C_i` at centre-of-mass speed `speed_c` (eq. 5, scaled with the
+    /// Reynolds number when that effect is on).
+    #[inline]
+    pub fn drag_coefficients(&self, speed_c: f64) -> [f64; 3] {
+        let c = self.c_drag;
+        match &self.effects.reynolds_drag {
+            None => c,
+            Some(re) => {
+                let k = re.factor(self.reynolds(speed_c));
+                [c[0] * k, c[1] * k, c[2] * k]
+            }
+        }
+    }
+
+    /// Angular acceleration and contact force at `(theta, w)`.
+    #[inline]
+    pub fn dynamics(&self, theta: f64, w: &Vector3<f64>) -> Dynamics {
+        self.dynamics_sc(theta.sin_cos(), w)
+    }
+
+    /// [`Model::dynamics`] from `(sin(theta), cos(theta))`, which the right-hand side needs too.
+    #[inline]
+    pub fn dynamics_sc(&self, (st, ct): (f64, f64), w: &Vector3<f64>) -> Dynamics {
+        let b = &self.body;
+        let tan = st / ct;
+        let (a, r) = (0.5 * b.h, b.r);
+        let (w1, w2, w3) = (w.x, w.y, w.z);
+        // Frame rate Omega = omega - psi' e2 = (w1, w3 tan(theta), w3).
+        let om = Vector3::new(w1, w3 * tan, w3);
+        let l_g = Vector3::new(b.inertia.x * w1, b.inertia.y * w2, b.inertia.z * w3);
+        let r_g = Vector3::new(0.0, a, r);
+        // Rolling: v_C = omega x r_G.
+        let v_c = Vector3::new(w2 * r - w3 * a, -w1 * r, w1 * a);
+        let om_x_vc = om.cross(&v_c);
+        // f of eq. 4 (m = 1).
+        let mut f = -om.cross(&l_g) - r_g.cross(&om_x_vc);
+        f.x += self.g * (r * st - a * ct);
+        let mut c = self.c_drag;
+        if let Some(re) = &self.effects.reynolds_drag {
+            let k = re.factor(self.reynolds(v_c.norm()));
+            c = [c[0] * k, c[1] * k, c[2] * k];
+        }
+        // Eq. 5: J^-1 T_drag = tau, tau_i = -C_i |w_i| w_i.
+        let tau = Vector3::new(-c[0] * w1.abs() * w1, -c[1] * w2.abs() * w2, -c[2] * w3.abs() * w3);
+        let z = Vector3::new(0.0, st, ct);
+        let gz = self.g * z;
+        if !self.effects.has_contact_terms() {
+            let omega_dot = b.j_inv * f + tau;
+            let force = omega_dot.cross(&r_g) + om_x_vc + gz;
+            return Dynamics::from_force(omega_dot, force, st, ct, v_c);
+        }
+        self.dynamics_with_losses(f, tau, w, &om_x_vc, &v_c, st, ct)
+    }
+
+    /// Total energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` (m = 1).
+    pub fn energy(&self, y: &StateVec) -> f64 {
+        let b = &self.body;
+        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
+        let (st, ct) = y[ix::THETA].sin_cos();
+        let v_c = Vector3::new(w.y * b.r - w.z * b.h / 2.0, -w.x * b.r, w.x * b.h / 2.0);
+        let rot = 0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
+        rot + 0.5 * v_c.norm_squared() + self.g * (0.5 * b.h * st + b.r * ct)
+    }
+
+    /// Kinetic energy only.
+    pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
+        let b = &self.body;
+        let (st, ct) = y[ix::THETA].sin_cos();
+        self.energy(y) - self.g * (0.5 * b.h * st + b.r * ct)
+    }
+}
+
+impl Dynamics {
+    #[inline]
+    pub(crate) fn from_force(omega_dot: Vector3<f64>, force: Vector3<f64>, st: f64, ct: f64, v_c: Vector3<f64>) -> Dynamics {
+        Dynamics {
+            omega_dot,
+            force,
+            f_n: force.y * st + force.z * ct,
+            f_f: force.y * ct - force.z * st,
+            f_1: force.x,
+            v_c,
+            contact_torque: Vector3::zeros(),
+            drag_force: Vector3::zeros(),
+        }
+    }
+
+    /// `sqrt(F_1^2 + F_f^2) / F_N`: the friction coefficient that rolling needs.
+    pub fn friction_ratio(&self) -> f64 {
+        (self.f_1 * self.f_1 + self.f_f * self.f_f).sqrt() / self.f_n
+    }
+}
+
+impl System<STATE_LEN> for Model {
+    #[inline]
+    fn rhs(&self, _t: f64, y: &StateVec, dy: &mut StateVec) {
+        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
+        let (st, ct) = y[ix::THETA].sin_cos();
+        let d = self.dynamics_sc((st, ct), &w);
+        let (sp, cp) = y[ix::PHI].sin_cos();
+        // Euler-angle kinematics (PHYSICS.md inverse): theta' = w1, phi' = w3/cos, psi' = w2 - w3 tan.
+        dy[ix::PHI] = w.z / ct;
+        dy[ix::THETA] = w.x;
+        dy[ix::PSI] = w.y - w.z * st / ct;
+        dy[ix::W1] = d.omega_dot.x;
+        dy[ix::W2] = d.omega_dot.y;
+        dy[ix::W3] = d.omega_dot.z;
+        // v_C rotated to the table: e1 = (cos phi, sin phi), horizontal part of e2, e3 along E2'.
+        let along_e2h = d.v_c.y * ct - d.v_c.z * st;
+        dy[ix::X] = d.v_c.x * cp - along_e2h * sp;
+        dy[ix::Y] = d.v_c.x * sp + along_e2h * cp;
+    }
+}
+
+/// The state at the start of a run, in the model's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Initial {
+    pub phi: f64,
+    pub theta: f64,
+    pub psi: f64,
+    pub theta_dot: f64,
+    pub phi_dot: f64,
+    pub psi_dot: f64,
+    pub x_c: f64,
+    pub y_c: f64,
+}
+
+impl Initial {
+    /// The paper's start (PHYSICS.md): the first inner turning point.
+    pub fn paper() -> Initial {
+        Initial {
+            phi: -0.38,
+            theta: 0.55,
+            psi: 0.0,
+            theta_dot: 0.0,
+            phi_dot: 4.5,
+            psi_dot: 0.0,
+            x_c: 0.0,
+            y_c: 0.0,
+        }
+    }
+
+    /// Checks finiteness and that `theta` is in `[0, pi/2)`, where the model holds.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_finite("phi0", self.phi)?;
+        check_finite("theta0", self.theta)?;
+        check_finite("psi0", self.psi)?;
+        check_finite("thetadot0", self.theta_dot)?;
+        check_finite("phidot0", self.phi_dot)?;
+        check_finite("psidot0", self.psi_dot)?;
+        check_finite("x0", self.x_c)?;
+        check_finite("y0", self.y_c)?;
+        if !(0.0..std::f64::consts::FRAC_PI_2).contains(&self.theta) {
+            return Err(ParamError {
+                name: "theta0",
+                value: self.theta,
+                reason: "must lie in [0, pi/2) rad (0 = upright, pi/2 = flat)",
+            });
+        }
+        Ok(())
+    }
+
+    /// The state vector: `w = (theta', phi' sin(theta) + psi', phi' cos(theta))`.
+    pub fn to_state(&self) -> StateVec {
+        let (st, ct) = self.theta.sin_cos();
+        [
+            self.phi,
+            self.theta,
+            self.psi,
+            self.theta_dot,
+            self.phi_dot * st + self.psi_dot,
+            self.phi_dot * ct,
+            self.x_c,
+            self.y_c,
+        ]
+    }
+
+    /// Reads the angles and rates back from a state vector.
+    pub fn from_state(y: &StateVec) -> Initial {
+        let (st, ct) = y[ix::THETA].sin_cos();
+        Initial {
+            phi: y[ix::PHI],
+            theta: y[ix::THETA],
+            psi: y[ix::PSI],
+            theta_dot: y[ix::W1],
+            phi_dot: y[ix::W3] / ct,
+            psi_dot: y[ix::W2] - y[ix::W3] * st / ct,
+            x_c: y[ix::X],
+            y_c: y[ix::Y],
+        }
+    }
+}

@@ -1,0 +1,32 @@
+//! Painleve's bound on the sliding friction coefficient (see [`super::slip`]): the sliding
+//! solve for `F_N` divides by `1 - kappa m_1 / I_1`, which large `mu` can drive to zero. It
+//! depends on the body and the rolling-friction arm only, so the model's parameter checks use
+//! it without the sliding equations.
+
+use super::body::Body;
+use std::f64::consts::FRAC_PI_2;
+
+/// The smallest value of `1 - kappa m_1 / I_1` that [`mu_limit`] allows.
+const PAINLEVE_MARGIN: f64 = 0.25;
+
+pub const PAINLEVE_REASON: &str =
+    "is too large for this body: sliding friction would make the normal force ill-defined (Painleve's paradox; slip::painleve_mu_limit gives the bound)";
+
+/// The largest `mu` for which the sliding solve stays well posed with a margin, for every tilt
+/// `theta` in `[0, pi/2]` and every slip direction: `1 - kappa m_1 / I_1 >= 1/4` when
+/// `mu z_C |kappa| <= (3/4) I_1 + kappa^2 - |kappa| k_r` (`k_r` the rolling-friction arm).
+pub fn mu_limit(b: &Body, k_r: f64) -> f64 {
+    let (a, r, i1) = (0.5 * b.h, b.r, b.inertia.x);
+    let mut limit = f64::INFINITY;
+    let n = 2000;
+    for k in 0..=n {
+        let (st, ct) = (FRAC_PI_2 * k as f64 / n as f64).sin_cos();
+        let kappa = (a * ct - r * st).abs();
+        let z_c = a * st + r * ct;
+        if kappa > 0.0 {
+            let mu = ((1.0 - PAINLEVE_MARGIN) * i1 + kappa * kappa - kappa * k_r) / (kappa * z_c);
+            limit = limit.min(mu.max(0.0));
+        }
+    }
+    limit
+}

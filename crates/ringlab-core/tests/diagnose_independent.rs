@@ -1,0 +1,86 @@
+//! The diagnosis on recordings ringlab did not make (`tests/data/independent/`, copied from the
+//! project's shared data): another simulator's integrator and slip model, a pinhole camera, a
+//! lens, a tracker's glitches, two effects at once, each with its `truth.json` entry. Each
+//! must be named as the truth says (`none`: nothing), the noise estimated within 20% of the
+//! true 0.5 px, and a named effect must cut the misfit beyond the noise at least 4x or to
+//! below 0.15 noise.
+
+mod common;
+
+use ringlab_core::analysis::diagnose::{Diagnosis, DiagnoseOptions, Finding, diagnose};
+use ringlab_core::recording::read_recording;
+use std::sync::atomic::AtomicBool;
+
+struct Truth {
+    left_out: Vec<String>,
+    noise_px: f64,
+}
+
+fn truth(name: &str) -> Truth {
+    let text = std::fs::read_to_string(common::test_data("independent/truth.json")).expect("truth.json");
+    let all: serde_json::Value = serde_json::from_str(&text).expect("truth.json is JSON");
+    let t = &all[name];
+    let left_out = t["left_out"].as_array().expect("left_out").iter().map(|v| v.as_str().expect("a name").to_string()).collect();
+    Truth { left_out, noise_px: t["noise_px"].as_f64().expect("noise_px") }
+}
+
+fn run(name: &str) -> (Diagnosis, Truth) {
+    let rec = read_recording(&common::test_data(&format!("independent/{name}.csv"))).expect("a readable recording");
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).expect("a diagnosis");
+    (d, truth(name))
+}
+
+fn check(name: &str) -> Diagnosis {
+    let (d, truth) = run(name);
+    let said: Vec<String> = match &d.finding {
+        Finding::Nothing => vec!["none".into()],
+        Finding::Unexplained { .. } => vec!["unexplained".into()],
+        Finding::Named(k) => k.iter().map(|k| k.name().to_string()).collect(),
+    };
+    let (mut want, mut got) = (truth.left_out.clone(), said.clone());
+    want.sort();
+    got.sort();
+    assert_eq!(got, want, "{name}: {}", d.explanation);
+    assert!((d.noise_px / truth.noise_px - 1.0).abs() < 0.2, "{name}: noise {} against {}", d.noise_px, truth.noise_px);
+    if !d.finding.named().is_empty() {
+        let (before, after) = (d.excess_px(d.before.rms_px), d.excess_px(d.after.rms_px));
+        assert!(after <= before / 4.0 || after < 0.15 * d.noise_px, "{name}: excess {before} -> {after} px");
+    }
+    d
+}
+
+/// Not met yet: ringlab's slip candidate ends worse than the baseline on the other simulator's
+/// slides, so the finding is `unexplained` (no longer `none`). Run it with `--ignored`.
+#[test]
+#[ignore = "issue 12 item 6: the other simulator's slip is not found yet (the finding is unexplained)"]
+fn slip_of_another_simulator_is_named() {
+    check("slip-hybrid");
+}
+
+#[test]
+fn a_pinhole_camera_straight_down_is_named() {
+    check("perspective");
+}
+
+#[test]
+fn a_tilted_pinhole_camera_is_named() {
+    check("tilted-camera");
+}
+
+#[test]
+fn a_lens_off_centre_is_named() {
+    check("lens-off-centre");
+}
+
+#[test]
+fn two_effects_are_both_named() {
+    check("two-effects");
+}
+
+#[test]
+fn glitches_are_left_out_and_nothing_is_missing() {
+    let d = check("glitches");
+    // 0.5% of 1,808 x 4 marks off, and labels 1 and 3 swapped a few frames four times.
+    assert!((40..=70).contains(&d.glitches.len()), "{} glitches", d.glitches.len());
+    assert!(d.before.rms_px < 1.1 * d.noise_px, "misfit over the coordinates kept: {}", d.before.rms_px);
+}

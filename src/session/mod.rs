@@ -1,0 +1,434 @@
+//! What the window does with a recording, without egui: opening it (the file dialog
+//! ([`file_dialog`]), a tracker's file and the options it needs), reading it and recovering its
+//! motion, fitting the model to it or diagnosing it, each as a [`Job`] off the UI thread; what
+//! was loaded, fitted and diagnosed; the recording frame by frame on the display's clock; the
+//! cases the simulator adopts. (The live run of the model is [`crate::sim`]'s.)
+//!
+//! The clock: the display counts seconds from the model's start (t = 0). The model starts at
+//! the recording's first inner turning point (reconstructed from the poses on loading, the
+//! fitted start after a fit), so frame `i` is shown at `i / fps - offset`, `offset` the time of
+//! that start from the first stored frame (frames are counted from the first stored one, as
+//! the fit counts them).
+
+mod diagnosing;
+pub mod file_dialog;
+mod fitting;
+pub mod job;
+mod loaded;
+
+pub use diagnosing::Diagnosed;
+pub use fitting::describe_fit_progress;
+pub use loaded::{LoadError, LoadedRecording};
+
+use file_dialog::{DialogOutcome, pick_recording};
+pub use job::{Job, JobContext, JobLost, Progress};
+use crate::analysis::diagnose::{DiagnoseError, Diagnosis};
+use crate::analysis::fit::{FitError, FitResult};
+use crate::config::CaseFile;
+use crate::recording::import::{Format, ImportError, ImportOptions};
+use crate::recording::recover::{Angles, FrameMotion};
+use diagnosing::run_diagnose;
+use fitting::run_fit;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A fit done, and the case it gives.
+pub struct Fitted {
+    pub result: FitResult,
+    pub case: CaseFile,
+}
+
+/// What the app should do after [`RecordingSession::poll`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum SessionEvent {
+    /// A recording is loaded: start the model from this case (None: it has no start state;
+    /// the model stays as it was).
+    Loaded(Option<CaseFile>),
+    /// A fit is done, or a diagnosis's model was chosen: adopt this case.
+    Fitted(CaseFile),
+}
+
+/// Which of a diagnosis's models to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiagnosedModel {
+    Baseline,
+    Improved,
+}
+
+/// Everything about the recording in the window.
+pub struct RecordingSession {
+    /// Jobs on threads (the live window) or at once (tests, pictures).
+    background: bool,
+    loaded: Option<LoadedRecording>,
+    loading: Option<(PathBuf, Job<Result<LoadedRecording, LoadError>>)>,
+    dialog: Option<Job<DialogOutcome>>,
+    fitting: Option<Job<Result<FitResult, FitError>>>,
+    fitted: Option<Fitted>,
+    diagnosing: Option<Job<Result<Diagnosis, DiagnoseError>>>,
+    diagnosed: Option<Diagnosed>,
+    /// Seconds from the first stored frame to the model's t = 0.
+    offset_s: f64,
+    /// A problem to show until dismissed (a file that could not be read, a failed fit).
+    pub error: Option<String>,
+    /// Something to know that is no error (a cancelled fit, no dialog).
+    pub note: Option<String>,
+    /// What trackers' files do not say, as last given (used for every file opened).
+    pub import_options: ImportOptions,
+    pub import_format: Option<Format>,
+    /// A tracker's file that needs options before it can be read: the window asks for them.
+    pending_import: Option<PendingImport>,
+}
+
+/// A file waiting for the import's options, and what was missing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingImport {
+    pub path: PathBuf,
+    pub error: ImportError,
+}
+
+impl RecordingSession {
+    pub fn new(background: bool) -> RecordingSession {
+        RecordingSession {
+            background,
+            loaded: None,
+            loading: None,
+            dialog: None,
+            fitting: None,
+            fitted: None,
+            diagnosing: None,
+            diagnosed: None,
+            offset_s: 0.0,
+            error: None,
+            note: None,
+            import_options: ImportOptions::default(),
+            import_format: None,
+            pending_import: None,
+        }
+    }
+
+    /// The file waiting for the import's options, if any.
+    pub fn pending_import(&self) -> Option<&PendingImport> {
+        self.pending_import.as_ref()
+    }
+
+    /// Reads the waiting file again with these options (remembered for the next files).
+    pub fn retry_import(&mut self, format: Option<Format>, options: ImportOptions) {
+        self.import_format = format;
+        self.import_options = options;
+        if let Some(p) = self.pending_import.take() {
+            self.open(p.path);
+        }
+    }
+
+    /// Gives up on the waiting file.
+    pub fn dismiss_import(&mut self) {
+        self.pending_import = None;
+    }
+
+    pub fn loaded(&self) -> Option<&LoadedRecording> {
+        self.loaded.as_ref()
+    }
+
+    pub fn fitted(&self) -> Option<&Fitted> {
+        self.fitted.as_ref()
+    }
+
+    pub fn diagnosed(&self) -> Option<&Diagnosed> {
+        self.diagnosed.as_ref()
+    }
+
+    /// Where the diagnosis is, while one runs.
+    pub fn diagnose_progress(&self) -> Option<Progress> {
+        self.diagnosing.as_ref().map(|j| j.progress())
+    }
+
+    pub fn diagnose_cancelling(&self) -> bool {
+        self.diagnosing.as_ref().is_some_and(|j| j.is_cancelling())
+    }
+
+    /// The mismatch window of the diagnosis on the display's clock (s from the model's t = 0).
+    pub fn mismatch_display_s(&self) -> Option<(f64, f64)> {
+        let l = self.loaded.as_ref()?;
+        self.diagnosed.as_ref()?.mismatch_display_s(l.recording.first_frame, l.fps(), self.offset_s)
+    }
+
+    /// The file being read, if any.
+    pub fn loading(&self) -> Option<&Path> {
+        self.loading.as_ref().map(|(p, _)| p.as_path())
+    }
+
+    pub fn dialog_open(&self) -> bool {
+        self.dialog.is_some()
+    }
+
+    /// Where the fit is, while one runs.
+    pub fn fit_progress(&self) -> Option<Progress> {
+        self.fitting.as_ref().map(|j| j.progress())
+    }
+
+    pub fn fit_cancelling(&self) -> bool {
+        self.fitting.as_ref().is_some_and(|j| j.is_cancelling())
+    }
+
+    /// Whether anything runs that the window should redraw for.
+    pub fn busy(&self) -> bool {
+        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some() || self.diagnosing.is_some()
+    }
+
+    /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
+    pub fn open_dialog(&mut self) {
+        if self.dialog.is_none() {
+            self.note = None;
+            self.dialog = Some(pick_recording(self.background));
+        }
+    }
+
+    /// Starts reading `path` (the dialog's and drag-and-drop's way in). A fit of the previous
+    /// recording is stopped; the previous recording stays until the new one is read.
+    pub fn open(&mut self, path: PathBuf) {
+        self.error = None;
+        self.note = None;
+        self.pending_import = None;
+        let p = path.clone();
+        let (format, opts) = (self.import_format, self.import_options.clone());
+        let read = move |_: &_| LoadedRecording::import(&p, format, &opts);
+        self.loading = Some((path, Job::start("read-recording", self.background, read)));
+    }
+
+    /// Forgets the recording (a running fit or diagnosis stops).
+    pub fn close(&mut self) {
+        self.loaded = None;
+        self.fitted = None;
+        self.fitting = None;
+        self.diagnosed = None;
+        self.diagnosing = None;
+        self.loading = None;
+        self.note = None;
+        self.offset_s = 0.0;
+    }
+
+    /// Starts a fit of the loaded recording (none while one runs).
+    pub fn start_fit(&mut self) {
+        let Some(l) = &self.loaded else { return };
+        if self.fitting.is_some() {
+            return;
+        }
+        self.note = None;
+        let rec = Arc::clone(&l.recording);
+        let background = self.background;
+        self.fitting = Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
+    }
+
+    /// Asks a running fit to stop.
+    pub fn cancel_fit(&mut self) {
+        if let Some(j) = &self.fitting {
+            j.cancel();
+        }
+    }
+
+    /// Starts a diagnosis of the loaded recording (none while one runs).
+    pub fn start_diagnose(&mut self) {
+        let Some(l) = &self.loaded else { return };
+        if self.diagnosing.is_some() {
+            return;
+        }
+        self.note = None;
+        let rec = Arc::clone(&l.recording);
+        let background = self.background;
+        self.diagnosing = Some(Job::start("diagnose", background, move |ctx| run_diagnose(&rec, ctx, background)));
+    }
+
+    /// Asks a running diagnosis to stop.
+    pub fn cancel_diagnose(&mut self) {
+        if let Some(j) = &self.diagnosing {
+            j.cancel();
+        }
+    }
+
+    /// The case of one of the diagnosis's models, for the simulator; the clock's offset moves
+    /// to its start. None without a diagnosis; the error where the model cannot be run.
+    pub fn adopt_diagnosed(&mut self, which: DiagnosedModel) -> Option<SessionEvent> {
+        let l = self.loaded.as_ref()?;
+        let d = self.diagnosed.as_ref()?;
+        let case = match which {
+            DiagnosedModel::Baseline => &d.baseline,
+            DiagnosedModel::Improved => &d.improved,
+        };
+        match case {
+            Ok(c) => {
+                self.offset_s = d.offset_s(l.recording.first_frame, l.fps());
+                Some(SessionEvent::Fitted(c.clone()))
+            }
+            Err(e) => {
+                self.error = Some(format!("The diagnosed model cannot be run: {e}"));
+                None
+            }
+        }
+    }
+
+    /// Takes in what the jobs have finished, without waiting; says what the app should adopt.
+    pub fn poll(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        if let Some(outcome) = self.dialog.as_mut().and_then(|j| j.poll()) {
+            self.dialog = None;
+            match outcome {
+                Ok(DialogOutcome::Picked(p)) => self.open(p),
+                Ok(DialogOutcome::Cancelled) => {}
+                Ok(DialogOutcome::Unavailable(why)) => self.note = Some(why),
+                Err(JobLost) => self.note = Some("the file dialog failed: drop the .csv file onto the window instead".into()),
+            }
+        }
+        if let Some(done) = self.loading.as_mut().and_then(|(_, j)| j.poll()) {
+            let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
+            match done {
+                Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
+                Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => self.pending_import = Some(PendingImport { path, error: e }),
+                Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
+                Err(JobLost) => self.error = Some(format!("Could not open the recording {}: reading it failed unexpectedly", path.display())),
+            }
+        }
+        if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
+            self.fitting = None;
+            match done {
+                Ok(Ok(r)) => events.extend(self.adopt_fit(r)),
+                Ok(Err(FitError::Cancelled)) => self.note = Some("the fit was cancelled".into()),
+                Ok(Err(e)) => self.error = Some(format!("The fit failed: {e}")),
+                Err(JobLost) => self.error = Some("The fit stopped unexpectedly".into()),
+            }
+        }
+        if let Some(done) = self.diagnosing.as_mut().and_then(|j| j.poll()) {
+            self.diagnosing = None;
+            match done {
+                Ok(Ok(d)) => {
+                    if let Some(l) = &self.loaded {
+                        let baseline = l.diagnosed_case(&d.before);
+                        let improved = l.diagnosed_case(&d.after);
+                        self.diagnosed = Some(Diagnosed { result: d, baseline, improved });
+                    }
+                }
+                Ok(Err(DiagnoseError::Cancelled)) => self.note = Some("the diagnosis was cancelled".into()),
+                Ok(Err(e)) => self.error = Some(format!("The diagnosis failed: {e}")),
+                Err(JobLost) => self.error = Some("The diagnosis stopped unexpectedly".into()),
+            }
+        }
+        events
+    }
+
+    /// Waits for every job to finish and takes in their results (tests; a caller that must
+    /// have the result now).
+    pub fn wait(&mut self) -> Vec<SessionEvent> {
+        let mut events = Vec::new();
+        while self.busy() {
+            self.dialog.iter_mut().for_each(Job::finish);
+            self.loading.iter_mut().for_each(|(_, j)| j.finish());
+            self.fitting.iter_mut().for_each(Job::finish);
+            self.diagnosing.iter_mut().for_each(Job::finish);
+            events.extend(self.poll());
+        }
+        events
+    }
+
+    fn adopt_loaded(&mut self, l: LoadedRecording) -> SessionEvent {
+        self.fitting = None;
+        self.fitted = None;
+        self.diagnosing = None;
+        self.diagnosed = None;
+        let start = l.start_case();
+        let fps = l.fps();
+        self.loaded = Some(l);
+        match start {
+            Ok((case, frame)) => {
+                self.offset_s = frame as f64 / fps;
+                SessionEvent::Loaded(Some(case))
+            }
+            Err(why) => {
+                self.offset_s = 0.0;
+                self.note = Some(format!("{why}: the model was left as it was"));
+                SessionEvent::Loaded(None)
+            }
+        }
+    }
+
+    fn adopt_fit(&mut self, r: FitResult) -> Option<SessionEvent> {
+        let l = self.loaded.as_ref()?;
+        match l.fitted_case(&r) {
+            Ok(case) => {
+                self.offset_s = r.start_t * r.units.time_s;
+                self.fitted = Some(Fitted { result: r, case: case.clone() });
+                Some(SessionEvent::Fitted(case))
+            }
+            Err(e) => {
+                self.error = Some(format!("The fitted model cannot be run: {e}"));
+                None
+            }
+        }
+    }
+
+    /// The fitted case again (after the sliders moved away from it).
+    pub fn readopt_fit(&mut self) -> Option<SessionEvent> {
+        let f = self.fitted.as_ref()?;
+        self.offset_s = f.result.start_t * f.result.units.time_s;
+        Some(SessionEvent::Fitted(f.case.clone()))
+    }
+
+    /// Seconds from the first stored frame to the model's t = 0.
+    pub fn offset_s(&self) -> f64 {
+        self.offset_s
+    }
+
+    /// The display time (s from the model's start) of frame `i`.
+    pub fn frame_seconds(&self, i: usize) -> Option<f64> {
+        let l = self.loaded.as_ref()?;
+        Some(i as f64 / l.fps() - self.offset_s)
+    }
+
+    /// The display time of the last frame.
+    pub fn end_seconds(&self) -> Option<f64> {
+        let n = self.loaded.as_ref()?.frames().len();
+        self.frame_seconds(n.checked_sub(1)?)
+    }
+
+    /// The frame shown at display time `seconds`: the nearest one; None before the first
+    /// frame, the last one after the end (the ring lies where it stopped).
+    pub fn frame_at(&self, seconds: f64) -> Option<usize> {
+        let l = self.loaded.as_ref()?;
+        let k = ((seconds + self.offset_s) * l.fps()).round();
+        if !(k >= 0.0) {
+            return None;
+        }
+        Some((k as usize).min(l.frames().len().checked_sub(1)?))
+    }
+
+    /// The frames shown up to display time `seconds` (all of them before it).
+    pub fn frames_until(&self, seconds: f64) -> &[FrameMotion] {
+        match (self.loaded.as_ref(), self.frame_at(seconds)) {
+            (Some(l), Some(k)) => &l.frames()[..=k],
+            _ => &[],
+        }
+    }
+
+    /// The pose at display time `seconds`: the angles and point A (mm) blended linearly
+    /// between the two frames around it where both have a pose on one stretch (the angles are
+    /// continuous there; a frame is up to 1/fps apart from the model's interpolated state, a
+    /// visible turn of a fast ring), else from the nearest frame with a pose (within three).
+    pub fn pose_at(&self, seconds: f64) -> Option<(Angles, [f64; 2])> {
+        let l = self.loaded.as_ref()?;
+        let k = self.frame_at(seconds)?;
+        let frames = l.frames();
+        let n = frames.len();
+        let pose = |j: usize| frames.get(j).and_then(|f| Some((f.angles?, f.a_mm?, f.stretch)));
+        let at = (seconds + self.offset_s) * l.fps();
+        let i = at.floor();
+        if i >= 0.0
+            && let (Some((a0, p0, s0)), Some((a1, p1, s1))) = (pose(i as usize), pose(i as usize + 1))
+            && s0.is_some()
+            && s0 == s1
+        {
+            let u = at - i;
+            let mix = |x: f64, y: f64| x + (y - x) * u;
+            let angles = Angles { phi: mix(a0.phi, a1.phi), theta: mix(a0.theta, a1.theta), psi: mix(a0.psi, a1.psi) };
+            return Some((angles, [mix(p0[0], p1[0]), mix(p0[1], p1[1])]));
+        }
+        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| pose(j).map(|(a, p, _)| (a, p)))
+    }
+}
