@@ -8,11 +8,11 @@ use super::rules::{CONSISTENT_RATIO, MIN_PAIR_EXCESS_CUT, bic, explained_share, 
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
 use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, PairCandidate, Partial, ModelFit, ResidualSeries, Signature, Trace};
 use super::signature::{measure, run_end};
-use super::whole::{WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
+use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, fit};
-use crate::recording::tracks::check_tracks;
+use crate::recording::tracks::{CheckedTracks, check_tracks};
 use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
 use crate::recording::{FrameMarks, Recording};
@@ -34,30 +34,112 @@ fn lm_error(e: LmError) -> DiagnoseError {
 
 /// Diagnoses a recording: which physics (or measurement effect) the paper's model left out,
 /// if any. Runs for seconds: call it off the UI thread. `progress` is called from worker
-/// threads; `cancel` stops it with [`DiagnoseError::Cancelled`].
+/// threads; `cancel` stops it with [`DiagnoseError::Cancelled`]. The stages, in order:
 pub fn diagnose(
     rec: &Recording,
     opts: &DiagnoseOptions,
     progress: &(dyn Fn(&DiagnoseProgress) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Diagnosis, DiagnoseError> {
-    let clock = Instant::now();
-    if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
-        return Err(DiagnoseError::Options(format!("evidence {} must be a number >= 0", opts.evidence)));
-    }
-    // Where the header gives the camera every model uses it, and its perspective is no suspect.
-    let camera_known = rec.header.camera_distance_mm.is_some();
-    let opts = &DiagnoseOptions {
-        candidates: opts.candidates.iter().copied().filter(|&k| !(camera_known && k == EffectKind::CameraPerspective)).collect(),
-        ..opts.clone()
-    };
+    let mut laps = Laps::new();
+    let opts = &suspects(rec, opts)?;
     // The tracker's glitches out of every fit; the noise from the tracks alone.
     let tracks = check_tracks(rec);
     let rec = &tracks.recording;
     let fit_opts = FitOptions { leave_out_glitches: false, ..opts.fit.clone() };
-    let base = fit(
+    let base = baseline_fit(rec, &fit_opts, progress, cancel)?;
+    laps.lap("multiple-shooting fit");
+    let ms = base.shooting(&rec.frames);
+    let noise = Noise::of(&base, rec);
+    let (baseline, levels) = baseline_path(&ms, &base, progress, cancel)?;
+    laps.lap("baseline over the whole run");
+    let (departure, baseline, fits) = candidates_and_departure(rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel)?;
+    laps.lap("candidates and departure");
+    progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
+    let mut ranked = rank(&baseline, &fits);
+    let (finding, chosen, pairs) = forward_selection(&ms, &levels, &baseline, &mut ranked, noise.px, opts.evidence, progress, cancel)?;
+    let candidates = ranked.into_iter().map(|(c, _)| c).collect();
+    let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
+    let mut d = describe(rec, &tracks, &base, &ms, &baseline, chosen, &departure, &noise, opts.evidence, laps.take())?;
+    d.explanation = explain(&d);
+    laps.lap("residuals, signature, words");
+    d.stage_seconds.extend(laps.take());
+    d.compute_seconds = laps.total();
+    Ok(d)
+}
+
+/// The seconds of each stage, and of the whole.
+struct Laps {
+    start: Instant,
+    lap: Instant,
+    done: Vec<(&'static str, f64)>,
+}
+
+impl Laps {
+    fn new() -> Laps {
+        let now = Instant::now();
+        Laps { start: now, lap: now, done: Vec::new() }
+    }
+    fn lap(&mut self, name: &'static str) {
+        self.done.push((name, self.lap.elapsed().as_secs_f64()));
+        self.lap = Instant::now();
+    }
+    fn take(&mut self) -> Vec<(&'static str, f64)> {
+        std::mem::take(&mut self.done)
+    }
+    fn total(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+}
+
+/// The pixel noise the diagnosis judges by, and the width of its residual windows.
+struct Noise {
+    px: f64,
+    /// Whether it came from the marks' tracks (else the baseline's misfit stands in).
+    from_marks: bool,
+    window_frames: usize,
+}
+
+impl Noise {
+    fn of(base: &FitResult, rec: &Recording) -> Noise {
+        let from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
+        let px = base.noise_px.filter(|_| from_marks).unwrap_or(base.rms_px);
+        let window_frames = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+        Noise { px, from_marks, window_frames }
+    }
+}
+
+/// What was decided: the finding, the model that stands for it, every candidate and pair.
+struct Chosen<'a> {
+    finding: Finding,
+    fit: &'a WholeFit,
+    candidates: Vec<Candidate>,
+    pairs: Vec<PairCandidate>,
+}
+
+/// Stage 0: the options checked, and the suspects: where the header gives the camera every
+/// model uses it, and its perspective is no suspect.
+fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, DiagnoseError> {
+    if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
+        return Err(DiagnoseError::Options(format!("evidence {} must be a number >= 0", opts.evidence)));
+    }
+    let camera_known = rec.header.camera_distance_mm.is_some();
+    Ok(DiagnoseOptions {
+        candidates: opts.candidates.iter().copied().filter(|&k| !(camera_known && k == EffectKind::CameraPerspective)).collect(),
+        ..opts.clone()
+    })
+}
+
+/// Stage 1: the paper's model fitted by multiple shooting (`analysis::fit`).
+fn baseline_fit(
+    rec: &Recording,
+    fit_opts: &FitOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<FitResult, DiagnoseError> {
+    fit(
         rec,
-        &fit_opts,
+        fit_opts,
         &|p: &FitProgress| {
             let within = if p.total > 0 { (p.done as f64 / p.total as f64).min(1.0) } else { 0.0 };
             progress(&DiagnoseProgress {
@@ -68,15 +150,16 @@ pub fn diagnose(
         },
         cancel,
     )
-    .map_err(|e| if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) })?;
-    let mut stage_seconds = vec![("multiple-shooting fit", clock.elapsed().as_secs_f64())];
-    let lap = Instant::now();
-    let ms = base.shooting(&rec.frames);
-    let noise_from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
-    let noise_px = base.noise_px.filter(|_| noise_from_marks).unwrap_or(base.rms_px);
-    let width = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
+    .map_err(|e| if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) })
+}
 
-    // The baseline's path and its departure side by side; then the candidates.
+/// Stage 2: the baseline over the whole run (`whole`), from the segments' states.
+fn baseline_path(
+    ms: &Shooting,
+    base: &FitResult,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(WholeFit, Vec<Level>), DiagnoseError> {
     let levels_total = (base.segments.len().max(1) as f64).log2().ceil() + 1.0;
     let baseline_progress = Mutex::new(0.0f64);
     let mut on_baseline = |segments: usize, cost: f64| {
@@ -90,25 +173,45 @@ pub fn diagnose(
             });
         }
     };
-    let (baseline, levels) = fit_baseline(&ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)?;
-    stage_seconds.push(("baseline over the whole run", lap.elapsed().as_secs_f64()));
-    let lap = Instant::now();
-    // Where it departs, if it does not follow the whole run (beside the candidates).
-    let follows_whole = departure::follows(&ms, &baseline, baseline.span.clone(), noise_px, width);
+    fit_baseline(ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)
+}
+
+/// Candidate fits, each effect in turn.
+type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
+
+/// Stage 3: where the baseline departs, if it does not follow the whole run, beside every
+/// candidate fitted on the baseline's path; a camera candidate that still misses fitted again
+/// through the camera it found.
+#[allow(clippy::too_many_arguments)]
+fn candidates_and_departure(
+    rec: &Recording,
+    fit_opts: &FitOptions,
+    ms: &Shooting,
+    base: &FitResult,
+    baseline: WholeFit,
+    levels: &[Level],
+    noise: &Noise,
+    opts: &DiagnoseOptions,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(Departure, WholeFit, Fits), DiagnoseError> {
+    let (noise_px, width) = (noise.px, noise.window_frames);
+    let follows_whole = departure::follows(ms, &baseline, baseline.span.clone(), noise_px, width);
     let (departure, candidates) = rayon::join(
-        || if follows_whole { Ok(Departure::none(&baseline)) } else { departure::find(&ms, &base.segment_states, noise_px, width, cancel) },
-        || candidates_stage(&ms, baseline.clone(), &levels, opts, progress, cancel),
+        || if follows_whole { Ok(Departure::none(&baseline)) } else { departure::find(ms, &base.segment_states, noise_px, width, cancel) },
+        || candidates_stage(ms, baseline.clone(), levels, opts, progress, cancel),
     );
     let departure = departure.map_err(lm_error)?;
     let (baseline, mut fits) = candidates?;
-    camera_second_pass(rec, &fit_opts, &baseline, &mut fits, noise_px, cancel)?;
-    stage_seconds.push(("candidates and departure", lap.elapsed().as_secs_f64()));
-    let lap = Instant::now();
-    progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
+    camera_second_pass(rec, fit_opts, &baseline, &mut fits, noise_px, cancel)?;
+    Ok((departure, baseline, fits))
+}
 
+/// Stage 4: the baseline and every candidate, best BIC first.
+fn rank<'a>(baseline: &'a WholeFit, fits: &'a Fits) -> Vec<(Candidate, Option<&'a WholeFit>)> {
     let n = baseline.residual_count;
     let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
-    let none_score = score(&baseline);
+    let none_score = score(baseline);
     let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
         Candidate {
             effect: EffectKind::None,
@@ -120,9 +223,9 @@ pub fn diagnose(
             seconds: baseline.seconds,
             stopped_at_segments: baseline.stopped_at,
         },
-        Some(&baseline),
+        Some(baseline),
     )];
-    for (kind, r) in &fits {
+    for (kind, r) in fits {
         ranked.push(match r {
             Ok(w) => {
                 let c = Candidate {
@@ -153,37 +256,58 @@ pub fn diagnose(
         });
     }
     ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
-    let (mut finding, chosen) = decide(&baseline, &ranked, noise_px, opts.evidence);
-    let mut chosen = chosen.unwrap_or(&baseline);
+    ranked
+}
+
+/// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
+/// single one, leaves the misfit beyond the noise, pairs of the candidates that improved on
+/// the baseline; a pair is named only when it beats every effect alone. Returns the finding,
+/// the model that stands for it (`None`: the baseline) and the pairs tried.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn forward_selection(
+    ms: &Shooting,
+    levels: &[Level],
+    baseline: &WholeFit,
+    ranked: &mut [(Candidate, Option<&WholeFit>)],
+    noise_px: f64,
+    evidence: f64,
+    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let none_score = score(baseline);
+    let (mut finding, chosen) = decide(baseline, ranked, noise_px, evidence);
+    let mut chosen = chosen.unwrap_or(baseline);
     // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
     // noise, pairs of the candidates that improved on the baseline.
     let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
         progress(&DiagnoseProgress { stage: DiagnoseStage::Candidates, fraction: 0.95, message: "pairs of effects".into() });
-        pairs_stage(&ms, &levels, &ranked, cancel)?
+        pairs_stage(ms, levels, ranked, cancel)?
     } else {
         Vec::new()
     };
     let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let mut pair_fits = pair_fits;
-    polish_best_pair(&ms, &mut pair_fits, &pair_score, cancel)?;
+    polish_best_pair(ms, &mut pair_fits, &pair_score, cancel)?;
     let best_pair = pair_fits.iter().filter_map(|(_, _, r)| r.as_ref().ok()).min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
     let pair_wins = best_pair.is_some_and(|p| {
-        pair_score(p) < score(chosen) - opts.evidence && explains_by(chosen.rms_px(), p.rms_px(), noise_px, MIN_PAIR_EXCESS_CUT)
+        pair_score(p) < score(chosen) - evidence && explains_by(chosen.rms_px(), p.rms_px(), noise_px, MIN_PAIR_EXCESS_CUT)
     });
     // Before a pair is named, each of its effects alone from the pair's solution: a single fit
     // can end in a side valley (rolling friction left at 1.7 px) that the pair's extra number
     // lets the least squares leave, and then the second effect is not needed.
     let alone = match best_pair.filter(|_| pair_wins) {
-        Some(p) => single_from_pair(&ms, p, cancel)?,
+        Some(p) => single_from_pair(ms, p, cancel)?,
         None => Vec::new(),
     };
     let best_alone = alone.iter().min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    let alone_enough = best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + opts.evidence);
+    let alone_enough = best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
     if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
         finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
         chosen = p;
     } else if let Some(a) = best_alone.filter(|a| {
-        alone_enough && pair_score(a) < score(chosen) && pair_score(a) < none_score - opts.evidence && explains(baseline.rms_px(), a.rms_px(), noise_px)
+        alone_enough && pair_score(a) < score(chosen) && pair_score(a) < none_score - evidence && explains(baseline.rms_px(), a.rms_px(), noise_px)
     }) {
         finding = Finding::Named(vec![a.kind]);
         chosen = a;
@@ -225,11 +349,34 @@ pub fn diagnose(
         v
     };
 
-    let pred_before = baseline.marks(&ms).ok_or(DiagnoseError::Baseline)?;
-    let pred_after = chosen.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let chosen = (!std::ptr::eq(chosen, baseline)).then(|| chosen.clone());
+    Ok((finding, chosen, pairs))
+}
+
+/// Stage 6: the residuals before and after, the mismatch windows, the signature, the trace:
+/// everything the words, the report and the window show.
+#[allow(clippy::too_many_arguments)]
+fn describe(
+    rec: &Recording,
+    tracks: &CheckedTracks,
+    base: &FitResult,
+    ms: &Shooting,
+    baseline: &WholeFit,
+    chosen: Chosen,
+    departure: &Departure,
+    noise: &Noise,
+    evidence: f64,
+    stage_seconds: Vec<(&'static str, f64)>,
+) -> Result<Diagnosis, DiagnoseError> {
+    let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
+    let (noise_px, width, noise_from_marks) = (noise.px, noise.window_frames, noise.from_marks);
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let pred_before = baseline.marks(ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_after = chosen.marks(ms).ok_or(DiagnoseError::Baseline)?;
     // The stretch's fit run on over the whole span (its own span is the stretch alone).
     let followed_on = WholeFit { span: baseline.span.clone(), ..departure.fit.clone() };
-    let pred_followed = followed_on.marks(&ms).ok_or(DiagnoseError::Baseline)?;
+    let pred_followed = followed_on.marks(ms).ok_or(DiagnoseError::Baseline)?;
     let span = baseline.span.clone();
     let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
     let to_s = |t_model: f64| time_s(t_model / base.dt);
@@ -240,11 +387,11 @@ pub fn diagnose(
     let win_before = windows(&sums_before, noise_px, width);
     let win_after = windows(&sums_after, noise_px, width);
     let win_followed = windows(&sums_followed, noise_px, width);
-    let (mismatch, found) = mismatch_windows(&departure, &span, (&sums_followed, &win_followed), (&sums_before, &win_before), noise_px, &time_s);
+    let (mismatch, found) = mismatch_windows(departure, &span, (&sums_followed, &win_followed), (&sums_before, &win_before), noise_px, &time_s);
 
     let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
-    let (end_before, _) = run_end(&baseline, &ms, t_stop);
-    let (end_after, slides) = run_end(chosen, &ms, t_stop);
+    let (end_before, _) = run_end(baseline, ms, t_stop);
+    let (end_after, slides) = run_end(chosen, ms, t_stop);
     let centre = baseline.camera.centre_px;
     let mut signature = Signature::from_measured(measure(&rec.frames[span.clone()], &sums_before, &pred_before, &pred_after, centre, noise_px));
     signature.end_data_s = (span.end < rec.frames.len()).then(|| time_s(span.end as f64));
@@ -271,7 +418,7 @@ pub fn diagnose(
         data_px: rec.frames[span.clone()].iter().map(centroid).collect(),
         before_px: pred_before.iter().map(predicted_centroid).collect(),
         after_px: pred_after.iter().map(predicted_centroid).collect(),
-        image_px: image_size(&base, rec),
+        image_px: image_size(base, rec),
     };
     let model_fit = |w: &WholeFit, end_s: Option<f64>| ModelFit {
         effect: w.kind,
@@ -293,18 +440,18 @@ pub fn diagnose(
         units: base.units,
         end_s,
     };
-    let mut d = Diagnosis {
+    let d = Diagnosis {
         finding,
         mismatch,
         windows: found,
         noise_px,
         noise_from_marks,
         glitches: tracks.glitches.clone(),
-        before: model_fit(&baseline, signature.end_before_s),
+        before: model_fit(baseline, signature.end_before_s),
         after: model_fit(chosen, signature.end_after_s),
-        candidates: ranked.into_iter().map(|(c, _)| c).collect(),
+        candidates,
         pairs,
-        evidence: opts.evidence,
+        evidence,
         header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
         residuals,
         trace,
@@ -318,9 +465,6 @@ pub fn diagnose(
         stage_seconds,
         compute_seconds: 0.0,
     };
-    d.explanation = explain(&d);
-    d.stage_seconds.push(("residuals, signature, words", lap.elapsed().as_secs_f64()));
-    d.compute_seconds = clock.elapsed().as_secs_f64();
     Ok(d)
 }
 

@@ -48,6 +48,11 @@ pub mod params;
 pub mod shooting;
 
 mod driver;
+mod options;
+mod result;
+mod start;
 
-pub use driver::{FitError, FitOptions, FitProgress, FitResult, FitStage, fit};
+pub use driver::fit;
+pub use options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};
+pub use result::FitResult;
 pub use params::{Free, ModelSpec};
