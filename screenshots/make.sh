@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's pictures with `ringlab render` (no window; any Vulkan adapter, e.g.
+# Regenerates the pictures of the README and docs/ with `ringlab render` (no window; any Vulkan adapter, e.g.
 # lavapipe). Run from anywhere: bash screenshots/make.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -4,7 +4,8 @@
 //! `ringlab-core` crate's, re-exported here under their own names.
 //!
 //! Layers, lowest first: core < sim, session < render < ui < cli. `render` knows nothing of
-//! `ui`; `sim` and `session` know nothing of egui.
+//! `ui`; `sim` and `session` know nothing of egui. `ARCHITECTURE.md` maps the crates, the
+//! threads and the data flow.
 
 pub use ringlab_core::{analysis, config, physics, plot, recording, report};
 

@@ -59,9 +59,10 @@ fn bad_files_and_flags_are_clear_errors() {
     assert_fails_with(&["diagnose-bench", "--seeds", "0"], &["--seeds"]);
 }
 
-/// The README's table made again from rows saved by `--out` (nothing diagnosed): rates, false
-/// alarms, the excess beyond the noise, the goals' checks, the markers' text replaced; bad rows
-/// named by file and line.
+/// The bench's table (`docs/diagnosis.md`) made again from rows saved by `--out` (nothing
+/// diagnosed): rates, false alarms, the excess beyond the noise, the goals' checks, the text
+/// between the markers replaced (a marker quoted in a sentence is not one); bad rows named by
+/// file and line.
 #[test]
 fn the_bench_table_is_made_from_saved_rows() {
     let dir = std::env::temp_dir().join(format!("ringlab-bench-rows-{}", std::process::id()));
@@ -81,13 +82,14 @@ fn the_bench_table_is_made_from_saved_rows() {
         format!("{header}camera-known:tilted,1,none,none,0.5,0.5,0.5,0,10,1400\nwithheld:slip,1,unexplained,none,1.2,1.2,0.5,0,9,1400\npair:reynolds_drag+pivot_friction,1,reynolds_drag+pivot_friction,pivot_friction+reynolds_drag,15,0.5,0.5,3,14,1000\n"),
     )
     .unwrap();
-    let readme = dir.join("README.md");
-    std::fs::write(&readme, "intro\n<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n").unwrap();
+    let readme = dir.join("diagnosis.md");
+    let intro = "intro: the table lies between `<!-- diagnose-bench begin -->` and `<!-- diagnose-bench end -->`\n";
+    std::fs::write(&readme, format!("{intro}<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n")).unwrap();
     let args = |files: &str| vec!["diagnose-bench".to_string(), "--from-csv".into(), files.into(), "--readme".into(), readme.to_str().unwrap().into()];
     let out = ringlab(&args(&format!("{},{}", slip.display(), none.display())).iter().map(String::as_str).collect::<Vec<_>>());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&readme).unwrap();
-    assert!(!text.contains("old table") && text.starts_with("intro\n") && text.ends_with("after\n"), "{text}");
+    assert!(!text.contains("old table") && text.starts_with(intro) && text.ends_with("after\n"), "{text}");
     assert!(text.contains("| camera-known:tilted | none | 1 | 1/1 (false alarms 0%) |"), "{text}");
     assert!(text.contains("| single:slip | slip | 3 | 2/3 (67%) | unexplained | 10.99 -> 0.000 px | >999x | 20.0 / 30.0 s |"), "{text}");
     // Pairs are right in either order; a `none` where the baseline misses by twice the noise is counted.

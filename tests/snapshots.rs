@@ -1,5 +1,5 @@
 //! Pictures compared with references in `tests/snapshots/` (`UPDATE_SNAPSHOTS=1 cargo test
-//! --release` rewrites the failing ones; see the README). Deterministic: the runs are computed
+//! --release` rewrites the failing ones; see docs/snapshots.md). Deterministic: the runs are computed
 //! at once (no thread), shown at a fixed time, from a fixed camera, without MSAA, through the
 //! software adapter (CI forces lavapipe with VK_DRIVER_FILES).
 //!

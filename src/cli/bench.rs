@@ -1,4 +1,5 @@
-//! `ringlab bench`: the speed figures of the README, measured on this machine.
+//! `ringlab bench`: the speed figures of the physics core (`docs/speed.md`), measured on this
+//! machine.
 
 use super::case_args::CaseArgs;
 use anyhow::Result;

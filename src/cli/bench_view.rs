@@ -1,4 +1,5 @@
-//! `ringlab bench-view`: the speed figures of the visualizer (README, "Speed of the window").
+//! `ringlab bench-view`: the speed figures of the visualizer (`docs/speed.md`, "The window and
+//! the renderer").
 //! Each figure is a measurement of this machine, printed, never asserted.
 //!
 //! - `offscreen`: the 3D scene with its traces at 1280x720, rendered and waited for (and once

@@ -2,7 +2,7 @@
 //! (`analysis::diagnose::concealed::Family`: one effect, one effect with a tracker's glitches,
 //! pairs, a withheld candidate, no effect under a known camera); how often it says what it
 //! should, how much of the misfit beyond the noise the named model removes, how often it
-//! raises a false alarm, and how long it takes. Writes the README's table.
+//! raises a false alarm, and how long it takes. Writes the table of `docs/diagnosis.md`.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -12,7 +12,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
-/// Markers of the table's place in the README.
+/// Markers of the table's place in a Markdown file (`docs/diagnosis.md`), each on a line of its
+/// own: HTML comments, so the rendered page does not show them.
 const BEGIN: &str = "<!-- diagnose-bench begin -->";
 const END: &str = "<!-- diagnose-bench end -->";
 
@@ -32,8 +33,9 @@ pub struct DiagnoseBenchArgs {
     /// One row per recording, as CSV
     #[arg(long, value_name = "FILE.csv")]
     pub out: Option<PathBuf>,
-    /// Replace the table between the diagnose-bench markers of this README
-    #[arg(long, value_name = "README.md")]
+    /// Replace the table between the diagnose-bench markers of this Markdown file (the
+    /// project's is docs/diagnosis.md)
+    #[arg(long, value_name = "FILE.md")]
     pub readme: Option<PathBuf>,
     /// Keep the recordings the diagnosis got wrong in this folder
     #[arg(long, value_name = "DIR")]
@@ -94,7 +96,7 @@ fn said(d: &Diagnosis) -> String {
     }
 }
 
-/// The README's table: one line per family in the order first met, then the goals' checks.
+/// The bench's table: one line per family in the order first met, then the goals' checks.
 fn table(rows: &[Row]) -> String {
     let mut families: Vec<&str> = Vec::new();
     for r in rows {
@@ -200,11 +202,24 @@ fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// Replaces the table between the markers of `readme`.
+/// Where `marker` stands alone on a line of `text` (the byte offset of that line). A marker
+/// quoted inside a sentence, as a page describing the markers would quote it, does not count.
+fn marker_line(text: &str, marker: &str) -> Option<usize> {
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        if line.trim() == marker {
+            return Some(at + (line.len() - line.trim_start().len()));
+        }
+        at += line.len();
+    }
+    None
+}
+
+/// Replaces the table between the markers of `readme` (a Markdown file: `docs/diagnosis.md`).
 fn write_readme(readme: &std::path::Path, t: &str) -> Result<()> {
     let text = std::fs::read_to_string(readme).with_context(|| format!("reading {}", readme.display()))?;
-    let (Some(a), Some(b)) = (text.find(BEGIN), text.find(END)) else {
-        bail!("{} has no '{BEGIN}' ... '{END}' markers", readme.display());
+    let (Some(a), Some(b)) = (marker_line(&text, BEGIN), marker_line(&text, END)) else {
+        bail!("{} has no '{BEGIN}' ... '{END}' markers, each on a line of its own", readme.display());
     };
     if b < a {
         bail!("{}: the diagnose-bench markers are out of order", readme.display());

@@ -3,8 +3,8 @@
 //! its realistic range, 0.5 px of noise, made by `synth`, the header telling nothing): it must
 //! name the effect and lower the misfit; on a recording without one it must say none. One
 //! recording each (the first seed, not chosen) to keep the test time short; `ringlab
-//! diagnose-bench` runs twenty per effect for the README's table. The sample recording: see
-//! `cli_diagnose.rs`.
+//! diagnose-bench` runs many per family for the table in `docs/diagnosis.md`. The sample
+//! recording: see `cli_diagnose.rs`.
 
 use ringlab_core::analysis::diagnose::concealed::concealed_recording;
 use ringlab_core::analysis::diagnose::{Diagnosis, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, diagnose, explained_share};

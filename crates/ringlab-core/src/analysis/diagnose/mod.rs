@@ -53,7 +53,8 @@
 //! puts it in words with the fitted parameter and its uncertainty.
 //!
 //! **Proof.** [`concealed`] makes recordings with a random effect, strength, start state and
-//! drag through `synth`; `ringlab diagnose-bench` runs the diagnosis on them (README table).
+//! drag through `synth`; `ringlab diagnose-bench` runs the diagnosis on them (the table in
+//! `docs/diagnosis.md`).
 //!
 //! For a window: [`diagnose`] on a worker thread, with a progress callback
 //! ([`DiagnoseProgress`]: a fraction for a bar and a line to show) and a cancel flag; the
