@@ -114,7 +114,7 @@ impl Camera {
     pub fn to_px3(&self, x_mm: f64, y_mm: f64, z_mm: f64) -> [f64; 2] {
         let (o, k) = (self.origin_px, self.px_per_mm);
         let u = match (self.distance_mm, self.tilt_rad) {
-            (None, t) if t == 0.0 => [o[0] + k * x_mm, o[1] - k * y_mm],
+            (None, 0.0) => [o[0] + k * x_mm, o[1] - k * y_mm],
             (None, t) => {
                 let (s, c) = (-t).sin_cos();
                 [o[0] + k * x_mm, o[1] + k * (s * z_mm - c * y_mm)]
@@ -145,7 +145,7 @@ impl Camera {
         let u = self.undistort(p);
         let (o, k) = (self.origin_px, self.px_per_mm);
         match (self.distance_mm, self.tilt_rad) {
-            (None, t) if t == 0.0 => [(u[0] - o[0]) / k, -(u[1] - o[1]) / k],
+            (None, 0.0) => [(u[0] - o[0]) / k, -(u[1] - o[1]) / k],
             (None, t) => {
                 let (s, c) = (-t).sin_cos();
                 [(u[0] - o[0]) / k, (s * z_mm - (u[1] - o[1]) / k) / c]

@@ -193,7 +193,7 @@ mod tests {
         for i in (20..1480).step_by(61) {
             let mark = rng.below(4);
             let off = 10.0 + 50.0 * rng.uniform();
-            let angle = 6.28 * rng.uniform();
+            let angle = std::f64::consts::TAU * rng.uniform();
             frames[i][mark] = frames[i][mark].map(|p| [p[0] + off * angle.cos(), p[1] + off * angle.sin()]);
             planted.push(Glitch { frame: i, mark, kind: GlitchKind::Outlier });
         }

@@ -63,6 +63,11 @@ impl Source {
             l.split(table::delimiter_of(l) as char).map(|c| c.trim().trim_matches('"').to_string()).collect()
         };
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let second = cells(second);
+        let tracker_table = second.len() >= 3
+            && second[0] == "t"
+            && second.iter().any(|h| h == "x")
+            && second.iter().any(|h| h == "y");
         if first.starts_with(MAGIC.trim_end_matches(" v1")) {
             Some(Source::Ringlab)
         } else if ext.as_deref() == Some("trk") || first.starts_with("<?xml") || first.starts_with("<object") {
@@ -71,10 +76,7 @@ impl Source {
             Some(Source::Dlc)
         } else if ["TRACK_ID", "FRAME", "POSITION_X", "POSITION_Y"].iter().all(|k| cells(first).iter().any(|c| c == k)) {
             Some(Source::TrackMate)
-        } else if {
-            let c = cells(second);
-            c.len() >= 3 && c[0] == "t" && c.iter().any(|h| h == "x") && c.iter().any(|h| h == "y")
-        } {
+        } else if tracker_table {
             Some(Source::TrackerTable)
         } else {
             None

@@ -38,11 +38,10 @@ pub fn read(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<PointTrac
         None => (false, spec[0].clone()),
     };
     let find = |s: &str| -> Result<usize, ImportError> {
-        if let Ok(n) = s.parse::<usize>() {
-            if n >= 1 && n <= header.cells.len() {
+        if let Ok(n) = s.parse::<usize>()
+            && n >= 1 && n <= header.cells.len() {
                 return Ok(n - 1);
             }
-        }
         table::column(header, s).ok_or_else(|| {
             let hint = if opts.columns.is_none() { " (name them with --columns)" } else { "" };
             err(Some(header.line), ImportErrorKind::MissingColumn { name: format!("{s}{hint}"), available: table::listed(header) })
