@@ -8,6 +8,7 @@ pub mod frames;
 pub mod gif;
 pub mod mp4;
 pub mod picture;
+pub mod session;
 pub mod video;
 
 pub use frames::{Aim, FrameSource, View};
