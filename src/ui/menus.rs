@@ -22,7 +22,9 @@ pub enum MenuAction {
 }
 
 fn item(ui: &mut egui::Ui, enabled: bool, label: &str, keys: &str, hover: &str, action: MenuAction, out: &mut MenuAction) {
-    let r = ui.add_enabled(enabled, egui::Button::new(label).shortcut_text(keys));
+    // A shortcut is part of the button's accessible label: none where there is no key.
+    let button = if keys.is_empty() { egui::Button::new(label) } else { egui::Button::new(label).shortcut_text(keys) };
+    let r = ui.add_enabled(enabled, button);
     if r.on_hover_text(hover).clicked() {
         *out = action;
         ui.close();

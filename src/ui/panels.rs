@@ -14,48 +14,63 @@ use crate::sim::{DiagnosedModel, Track};
 use eframe::egui::{self, RichText};
 
 impl RinglabApp {
+    /// The top bar: the menus and the two runs' buttons, then the playback; in presentation
+    /// mode the playback has a row of its own (the scale leaves too few points for one).
     pub(super) fn top_bar_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label(RichText::new("ringlab").strong().size(16.0));
-            let presenting = self.presentation.on;
-            let action = menus::file_menu_ui(ui, &self.recording, &self.exports, presenting);
+        if self.presentation.on {
+            ui.horizontal(|ui| self.menus_and_runs_ui(ui));
+            ui.horizontal(|ui| self.playback_row_ui(ui));
+        } else {
+            ui.horizontal(|ui| {
+                self.menus_and_runs_ui(ui);
+                ui.separator();
+                self.playback_row_ui(ui);
+            });
+        }
+    }
+
+    fn menus_and_runs_ui(&mut self, ui: &mut egui::Ui) {
+        ui.label(RichText::new("ringlab").strong().size(16.0));
+        let presenting = self.presentation.on;
+        let action = menus::file_menu_ui(ui, &self.recording, &self.exports, presenting);
+        self.act_on_menu(action);
+        if presenting {
+            let action = menus::view_menu_ui(ui);
             self.act_on_menu(action);
-            if presenting {
-                let action = menus::view_menu_ui(ui);
-                self.act_on_menu(action);
-                let label = if self.presentation.side_open { "Hide parameters" } else { "Parameters" };
-                if ui.button(label).on_hover_text("the side panel: the model's parameters, the recording").clicked() {
-                    self.presentation.side_open = !self.presentation.side_open;
-                }
-                if ui.button("Leave presentation").on_hover_text("F11").clicked() {
-                    self.act_on_menu(MenuAction::Presentation(false));
-                }
+            let label = if self.presentation.side_open { "Hide parameters" } else { "Parameters" };
+            if ui.button(label).on_hover_text("the side panel: the model's parameters, the recording").clicked() {
+                self.presentation.side_open = !self.presentation.side_open;
             }
-            ui.separator();
-            if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
-                self.ring_vs_disk();
+            if ui.button("Leave presentation").on_hover_text("F11").clicked() {
+                self.act_on_menu(MenuAction::Presentation(false));
             }
-            let mut compare = self.settings.compare;
-            if ui.checkbox(&mut compare, "side by side").changed() {
-                self.set_compare(compare);
-            }
-            ui.separator();
-            let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
-            let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
-            let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
-            let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
-            if act.reset {
-                self.reset();
-            }
-            if act.step {
-                let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
-                self.player.step(dt, self.end_seconds());
-            }
-            if let Some(s) = act.seek {
-                self.player.seek(s);
-            }
-            self.settings.speed = self.player.speed();
-        });
+        }
+        ui.separator();
+        if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
+            self.ring_vs_disk();
+        }
+        let mut compare = self.settings.compare;
+        if ui.checkbox(&mut compare, "side by side").changed() {
+            self.set_compare(compare);
+        }
+    }
+
+    fn playback_row_ui(&mut self, ui: &mut egui::Ui) {
+        let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+        let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
+        let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
+        let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
+        if act.reset {
+            self.reset();
+        }
+        if act.step {
+            let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
+            self.player.step(dt, self.end_seconds());
+        }
+        if let Some(s) = act.seek {
+            self.player.seek(s);
+        }
+        self.settings.speed = self.player.speed();
     }
 
     /// The side panel's tabs: the model's parameters, the recording.
