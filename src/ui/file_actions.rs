@@ -29,6 +29,13 @@ pub(super) struct Screenshot {
     requested: bool,
 }
 
+impl Screenshot {
+    /// Not yet asked of the renderer: this frame is the picture.
+    pub(super) fn waiting(&self) -> bool {
+        !self.requested
+    }
+}
+
 /// The device of the window, or (tests, headless) one of the job's own.
 fn gpu_or_new(gpu: Option<Arc<Gpu>>) -> Result<Arc<Gpu>, RenderError> {
     match gpu {

@@ -428,7 +428,10 @@ impl RinglabApp {
         // software rasteriser every filled pixel of egui costs, and the panels cover the window.
         let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
         egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
-        if recording_panel::has_messages(&self.recording) {
+        // The frame a picture of the window is taken of shows neither the message strip nor the
+        // video window: the picture is of the run (for slides).
+        let picture_frame = self.screenshot.as_ref().is_some_and(|s| s.waiting());
+        if recording_panel::has_messages(&self.recording) && !picture_frame {
             egui::Panel::top("messages").frame(side).show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
         }
         // Presentation mode folds the side panel away (a button in the top bar unfolds it).
@@ -453,7 +456,9 @@ impl RinglabApp {
         egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
 
         recording_panel::drop_hint_ui(ui.ctx());
-        self.video_dialog_window(ui.ctx());
+        if !picture_frame {
+            self.video_dialog_window(ui.ctx());
+        }
         lean_paint::hand_over(ui.ctx());
         self.open_requested_dialog();
         self.pump_screenshot(ui.ctx());
