@@ -157,7 +157,7 @@ mod tests {
         let spec = VideoSpec { from: 10.0, to: 50.0, fps: 25.0, speed: 0.25 };
         // The paper's ring: a time unit of 0.04595 s.
         let t = spec.frame_times(0.04595).unwrap();
-        let step = 0.25 / 25.0 / 0.04595;
+        let step: f64 = 0.25 / 25.0 / 0.04595;
         assert_eq!(t.len(), (40.0 / step).floor() as usize + 1);
         assert_eq!(t[0], 10.0);
         assert!((t[1] - t[0] - step).abs() < 1e-12);
