@@ -14,7 +14,6 @@ use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::recording_panel::RecordingAction;
 use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, SideTab};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum View {
@@ -232,14 +231,13 @@ fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
     let mut source = frame_source(&gpu, args, Some(spec.to * case.units.time_s))?;
     let frames = spec.frame_times(source.time_unit_s()).map_err(anyhow::Error::msg)?.len();
     let bar = indicatif::ProgressBar::new(frames as u64);
-    let clock = Instant::now();
     let report = write_video(&gpu, &mut source, &spec, size, path, &mut |done, _| {
         bar.set_position(done as u64);
         true
     })
     .with_context(|| format!("--video {}", path.display()))?;
     bar.finish_and_clear();
-    let seconds = clock.elapsed().as_secs_f64();
+    let seconds = report.seconds;
     println!(
         "wrote {} ({} frames of {}x{}, {} to {} at {} frames/s and {}x real time: {:.1} s of video; {} at {:.1} kB; {:.1} s, {:.0} ms a frame, {})",
         path.display(),

@@ -189,12 +189,13 @@ impl ExportSession {
 pub fn describe_video(r: Result<VideoReport, ExportError>) -> Outcome {
     match r {
         Ok(v) => Ok(format!(
-            "wrote {} ({} frames of {}x{}, {:.1} MB)",
+            "wrote {} ({} frames of {}x{}, {:.1} MB, in {:.1} s)",
             v.path.display(),
             v.frames,
             v.size[0],
             v.size[1],
-            v.bytes as f64 / 1e6
+            v.bytes as f64 / 1e6,
+            v.seconds
         )),
         Err(ExportError::Cancelled) => Ok("the video was cancelled (no file written)".into()),
         Err(e) => Err(e.to_string()),

@@ -114,6 +114,8 @@ pub struct VideoReport {
     pub frames: usize,
     pub bytes: u64,
     pub size: [u32; 2],
+    /// Wall-clock time it took.
+    pub seconds: f64,
 }
 
 /// Draws the frames of `spec` from `source` at `size` and writes them to `path`.
@@ -131,6 +133,7 @@ pub fn write_video(
         .ok_or_else(|| ExportError::Invalid(format!("{}: a video is a .gif or an .mp4 file", path.display())))?;
     spec.check(format).map_err(ExportError::Invalid)?;
     let times = spec.frame_times(source.time_unit_s()).map_err(ExportError::Invalid)?;
+    let clock = std::time::Instant::now();
     let mut sink = open_sink(path, size, spec.fps)?;
     for (k, &t) in times.iter().enumerate() {
         let pushed = source.frame(gpu, t, size).map_err(ExportError::from).and_then(|img| sink.push(&img));
@@ -145,7 +148,7 @@ pub fn write_video(
     }
     sink.finish()?;
     let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    Ok(VideoReport { path: path.to_path_buf(), frames: times.len(), bytes, size })
+    Ok(VideoReport { path: path.to_path_buf(), frames: times.len(), bytes, size, seconds: clock.elapsed().as_secs_f64() })
 }
 
 #[cfg(test)]

@@ -134,7 +134,7 @@ pub struct RinglabApp {
     pub presentation: Presentation,
     pub video_dialog: VideoDialog,
     screenshot: Option<file_actions::Screenshot>,
-    /// The window's graphics device, for pictures and videos (None: they open their own).
+    /// The window's graphics device, for pictures of the 3D view (None: they open their own).
     gpu: Option<Arc<Gpu>>,
     /// The 3D view's size on the screen in pixels (the size of its picture).
     view_px: [u32; 2],
@@ -384,7 +384,7 @@ impl RinglabApp {
         self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
     }
 
-    /// Pictures and videos draw on this device (the window's) instead of opening their own.
+    /// Pictures of the 3D view draw on this device (the window's) instead of opening their own.
     pub fn set_gpu(&mut self, gpu: Gpu) {
         self.gpu = Some(Arc::new(gpu));
     }
@@ -428,9 +428,10 @@ impl RinglabApp {
         // software rasteriser every filled pixel of egui costs, and the panels cover the window.
         let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
         egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
-        // The frame a picture of the window is taken of shows neither the message strip nor the
-        // video window: the picture is of the run (for slides).
-        let picture_frame = self.screenshot.as_ref().is_some_and(|s| s.waiting());
+        // While a picture of the window is on its way (eframe takes it of a later frame than
+        // the one that asks) neither the message strip nor the video window shows: the picture
+        // is of the run (for slides).
+        let picture_frame = self.screenshot.is_some();
         if recording_panel::has_messages(&self.recording) && !picture_frame {
             egui::Panel::top("messages").frame(side).show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
         }

@@ -56,7 +56,10 @@ pub enum VideoDialogAction {
 pub fn video_dialog_ui(ctx: &egui::Context, d: &mut VideoDialog, exports: &ExportSession, time: &str, time_s: f64) -> VideoDialogAction {
     let mut action = VideoDialogAction::None;
     let mut open = d.open;
-    egui::Window::new("Export video").open(&mut open).resizable(false).collapsible(false).show(ctx, |ui| {
+    let window = egui::Window::new("Export video").open(&mut open).resizable(false).collapsible(false);
+    // In the middle, off the top bar and the message strip (where the outcome is said).
+    let window = window.pivot(egui::Align2::CENTER_CENTER).default_pos(ctx.content_rect().center());
+    window.show(ctx, |ui| {
         egui::Grid::new("video-choices").num_columns(2).spacing([12.0, 6.0]).show(ui, |ui| {
             ui.label("show");
             ui.horizontal(|ui| {
