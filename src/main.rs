@@ -1,4 +1,5 @@
-//! The `ringlab` command: with no arguments it opens the window; subcommands run headless.
+//! The `ringlab` command: without a subcommand it opens the window (`--config CASE.toml`: with
+//! that case); subcommands run headless.
 
 mod cli;
 
@@ -7,7 +8,12 @@ use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
 #[command(name = "ringlab", version, about = "Rolling rings and disks: the terminal retrograde turn, simulated and explained")]
+#[command(args_conflicts_with_subcommands = true)]
 struct Cli {
+    /// Open the window with this case (a TOML file of the presets' shape, as File > Save case
+    /// writes it) instead of the one kept from the last session
+    #[arg(long, value_name = "CASE.toml")]
+    config: Option<std::path::PathBuf>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -71,6 +77,10 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
-        None => ringlab::ui::run_window().map_err(|e| anyhow::anyhow!("cannot open the window: {e}")),
+        None => {
+            // A bad file stops here, with its error, before any window opens.
+            let case = cli.config.as_deref().map(ringlab::config::load_case_file).transpose()?;
+            ringlab::ui::run_window(case).map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
+        }
     }
 }

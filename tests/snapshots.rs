@@ -132,6 +132,24 @@ fn app_diagnosed_reynolds_drag() {
     harness.snapshot_options("app_diagnosed_reynolds_drag", &options(w, h));
 }
 
+/// Presentation mode on a 1920x1080 projector: the UI at its presentation scale (1.5, so
+/// 1280x720 points), the projector theme with thick paths, the side panel folded away.
+#[test]
+fn app_presentation_paper_ring() {
+    let zoom = ringlab::ui::presentation::PRESENTATION_ZOOM;
+    let (w, h) = (1920u32, 1080u32);
+    let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: seconds(60.0) });
+    app.set_presentation(true);
+    let mut harness = builder(w, h).with_size([w as f32 / zoom, h as f32 / zoom]).build_ui(|ui| {
+        background(ui);
+        app.ui_root(ui)
+    });
+    harness.run_steps(3);
+    assert_eq!(harness.ctx.zoom_factor(), zoom);
+    assert!(harness.query_by_label("Model").is_none(), "the side panel is folded away");
+    harness.snapshot_options("app_presentation_paper_ring", &options(w, h));
+}
+
 #[test]
 fn scene_3d_paper_ring() {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe)");

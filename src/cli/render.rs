@@ -1,16 +1,18 @@
-//! `ringlab render`: a picture without a window, through the same renderer as the app.
+//! `ringlab render`: a picture or a video without a window, through the same renderer as the
+//! app.
 
 use super::case_args::CaseArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use ringlab::config::{Case, load_preset};
-use ringlab::render::{Gpu, OrbitCamera, SceneRenderer, UiRenderer};
-use ringlab::sim::Track;
-use ringlab::ui::palette::BODY_LINEAR;
+use ringlab::config::{Case, CaseFile, load_preset};
+use ringlab::export::mp4::find_ffmpeg;
+use ringlab::export::picture::save_png;
+use ringlab::export::{Aim, ExportError, FrameSource, VideoFormat, VideoSpec, write_video};
+use ringlab::render::{Gpu, OrbitCamera};
 use ringlab::session::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
 use ringlab::ui::recording_panel::RecordingAction;
-use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, SideTab, scene, trace_panel};
+use ringlab::ui::{Detail3d, Mode, RinglabApp, Settings, SideTab};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -24,19 +26,29 @@ pub enum View {
     App,
 }
 
+impl View {
+    fn into_view(self) -> ringlab::export::View {
+        match self {
+            View::ThreeD => ringlab::export::View::ThreeD,
+            View::Top => ringlab::export::View::Top,
+            View::App => ringlab::export::View::App,
+        }
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
     pub case: CaseArgs,
     /// The moment to show, in the case's time unit (as `simulate` counts it)
-    #[arg(long, allow_negative_numbers = true)]
-    pub time: f64,
-    /// Picture width in pixels
-    #[arg(long, default_value_t = 1280)]
-    pub width: u32,
-    /// Picture height in pixels
-    #[arg(long, default_value_t = 720)]
-    pub height: u32,
+    #[arg(long, allow_negative_numbers = true, required_unless_present = "video", conflicts_with = "video")]
+    pub time: Option<f64>,
+    /// Width in pixels [default: 1280 for a picture, 640 for a video]
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Height in pixels [default: 720 for a picture, 360 for a video]
+    #[arg(long)]
+    pub height: Option<u32>,
     /// What to draw
     #[arg(long, value_enum, default_value = "3d")]
     pub view: View,
@@ -44,7 +56,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "PRESET")]
     pub compare: Option<String>,
     /// Fixed camera as YAW,PITCH,DISTANCE (radians, radians, outer radii) looking at the
-    /// middle of the path so far; default: the app's view, following the body
+    /// middle of the path so far (a video: of the path up to --to); default: the app's view,
+    /// following the body
     #[arg(long, value_name = "YAW,PITCH,DIST")]
     pub camera: Option<String>,
     /// Leave out the contact point's path
@@ -64,8 +77,27 @@ pub struct RenderArgs {
     #[arg(long, requires = "recording", conflicts_with = "fit")]
     pub diagnose: bool,
     /// Output PNG file
-    #[arg(long, value_name = "FILE.png")]
-    pub out: PathBuf,
+    #[arg(long, value_name = "FILE.png", required_unless_present = "video", conflicts_with = "video")]
+    pub out: Option<PathBuf>,
+    /// Write a video of the run from --from to --to instead of a picture: a GIF (written by
+    /// ringlab: a palette of 256 colours per frame, looping) or an MP4 (H.264, made by an
+    /// ffmpeg that must be on PATH)
+    #[arg(long, value_name = "OUT.gif|OUT.mp4", requires_all = ["from", "to"])]
+    pub video: Option<PathBuf>,
+    /// Video: the first frame's time, in the case's time unit (as --time)
+    #[arg(long, allow_negative_numbers = true, requires = "video")]
+    pub from: Option<f64>,
+    /// Video: the last frame's time (at most), in the case's time unit
+    #[arg(long, allow_negative_numbers = true, requires = "video")]
+    pub to: Option<f64>,
+    /// Video: frames per second [default: 25; a GIF at most 50]
+    #[arg(long, allow_negative_numbers = true, requires = "video")]
+    pub fps: Option<f64>,
+    /// Video: playback speed, a multiple of real time as the window's speed control: one second
+    /// of video shows X seconds of the motion [default: 0.25]. In the paper's units (a time unit
+    /// of 0.04595 s) that is X / 0.04595 time units per second of video; in mm and s, X seconds
+    #[arg(long, allow_negative_numbers = true, requires = "video", value_name = "X")]
+    pub speed: Option<f64>,
 }
 
 fn parse_camera(s: &str, r: f32) -> Result<OrbitCamera> {
@@ -80,46 +112,55 @@ fn parse_camera(s: &str, r: f32) -> Result<OrbitCamera> {
     Ok(OrbitCamera { target: [0.0; 3], yaw: v[0], pitch: v[1].clamp(0.05, 1.52), distance: v[2] * r })
 }
 
-pub fn run(args: &RenderArgs) -> Result<()> {
-    if !(args.time.is_finite() && args.time >= 0.0) {
-        bail!("--time = {}: must be a time at or after the start (0)", args.time);
-    }
-    for (v, flag) in [(args.width, "--width"), (args.height, "--height")] {
+/// The picture's or video's size: the flags, or the defaults of each.
+fn size(args: &RenderArgs, default: [u32; 2]) -> Result<[u32; 2]> {
+    let size = [args.width.unwrap_or(default[0]), args.height.unwrap_or(default[1])];
+    for (v, flag) in [(size[0], "--width"), (size[1], "--height")] {
         if !(16..=8192).contains(&v) {
             bail!("{flag} = {v}: must be between 16 and 8192 pixels");
         }
     }
-    if args.out.extension().and_then(|e| e.to_str()).map(|e| e.eq_ignore_ascii_case("png")) != Some(true) {
-        bail!("--out {}: only PNG pictures are written (name the file .png)", args.out.display());
+    Ok(size)
+}
+
+pub fn run(args: &RenderArgs) -> Result<()> {
+    match (&args.video, args.time, &args.out) {
+        (Some(video), _, _) => run_video(args, video),
+        (None, Some(time), Some(out)) => run_picture(args, time, out),
+        // clap asks for --time and --out where --video is missing.
+        _ => bail!("give --time and --out for a picture, or --video with --from and --to"),
     }
+}
+
+/// Second preset (--compare), loaded and built.
+fn second_case(args: &RenderArgs) -> Result<Option<(String, CaseFile, Case)>> {
+    let Some(name) = &args.compare else { return Ok(None) };
+    let f = load_preset(name)?;
+    let c = f.build().map_err(anyhow::Error::msg).with_context(|| format!("preset '{name}'"))?;
+    Ok(Some((name.clone(), f, c)))
+}
+
+/// What draws the frames of the asked view. `until`: a video's end (seconds), where a fixed
+/// camera looks at the middle of the path up to it.
+fn frame_source(gpu: &Gpu, args: &RenderArgs, until: Option<f64>) -> Result<FrameSource> {
     let file = args.case.case_file()?;
     let case = args.case.case()?;
-    let second = match &args.compare {
-        Some(name) => {
-            let f = load_preset(name)?;
-            let c = f.build().map_err(anyhow::Error::msg).with_context(|| format!("preset '{name}'"))?;
-            Some((name.clone(), f, c))
-        }
-        None => None,
-    };
-    let gpu = Gpu::new()?;
-    let size = [args.width, args.height];
-    let seconds = args.time * case.units.time_s;
-    let image = match args.view {
+    let second = second_case(args)?;
+    Ok(match args.view {
         View::ThreeD => {
-            let mut cases = vec![case.clone()];
-            cases.extend(second.as_ref().map(|s| s.2.clone()));
-            render_3d(&gpu, &cases, seconds, size, args)?
+            let r = case.model.body.r as f32;
+            let (camera, aim) = match &args.camera {
+                Some(s) => (parse_camera(s, r)?, Aim::PathMiddle(until)),
+                None => (OrbitCamera::default_for(r), Aim::Follow),
+            };
+            let mut cases = vec![case];
+            cases.extend(second.map(|s| s.2));
+            FrameSource::three_d(gpu, cases, camera, aim, !args.no_contact)
         }
         View::Top => {
-            let mut tracks = vec![(file.name.clone(), Track::compute(case.clone()))];
-            tracks.extend(second.as_ref().map(|s| (s.0.clone(), Track::compute(s.2.clone()))));
-            let contact = !args.no_contact;
-            let bounds = tracks.iter().filter_map(|(_, t)| trace_panel::Bounds::of(t, contact)).reduce(trace_panel::Bounds::union);
-            let mut ui_renderer = UiRenderer::new(&gpu);
-            ui_renderer.render(&gpu, size, 3, |ui| {
-                egui_top_ui(ui, &tracks, seconds, contact, bounds);
-            })?
+            let mut runs = vec![(file.name.clone(), case)];
+            runs.extend(second.map(|s| (s.0, s.2)));
+            FrameSource::top(gpu, runs, !args.no_contact)
         }
         View::App => {
             // A picture: the 3D view at every pixel, whatever the adapter.
@@ -136,20 +177,93 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 settings.compare_preset = name.clone();
                 settings.compare_case = f.clone();
             }
-            let mut app = RinglabApp::new(settings, Mode::Fixed { seconds });
+            let mut app = RinglabApp::new(settings, Mode::Fixed { seconds: 0.0 });
             if let Some(path) = &args.recording {
                 open_recording(&mut app, path, args.fit)?;
                 if args.diagnose {
                     diagnose_recording(&mut app)?;
                 }
-                app.seek_model_time(args.time);
             }
-            let mut ui_renderer = UiRenderer::new(&gpu);
-            ui_renderer.render(&gpu, size, 3, |ui| app.ui_root(ui))?
+            FrameSource::app(gpu, app)
         }
+    })
+}
+
+fn run_picture(args: &RenderArgs, time: f64, out: &Path) -> Result<()> {
+    // clap lets these through beside --time (it conflicts with --video, which they need).
+    for (given, flag) in [(args.from.is_some(), "--from"), (args.to.is_some(), "--to"), (args.fps.is_some(), "--fps"), (args.speed.is_some(), "--speed")] {
+        if given {
+            bail!("{flag} is for a video (--video OUT.gif|OUT.mp4), not a picture (--time, --out)");
+        }
+    }
+    if !(time.is_finite() && time >= 0.0) {
+        bail!("--time = {time}: must be a time at or after the start (0)");
+    }
+    let size = size(args, [1280, 720])?;
+    if out.extension().and_then(|e| e.to_str()).map(|e| e.eq_ignore_ascii_case("png")) != Some(true) {
+        bail!("--out {}: only PNG pictures are written (name the file .png)", out.display());
+    }
+    check_folder("--out", out)?;
+    let gpu = Gpu::new()?;
+    let mut source = frame_source(&gpu, args, None)?;
+    let image = source.frame(&gpu, time, size)?;
+    save_png(&image, out).with_context(|| format!("--out {}", out.display()))?;
+    println!("wrote {} ({}x{}, {} at t = {}, {})", out.display(), size[0], size[1], args.view.into_view().name(), time, gpu.adapter.name);
+    Ok(())
+}
+
+fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
+    let format = VideoFormat::of(path).with_context(|| format!("--video {}: name the file .gif or .mp4", path.display()))?;
+    let spec = VideoSpec {
+        from: args.from.context("--video needs --from")?,
+        to: args.to.context("--video needs --to")?,
+        fps: args.fps.unwrap_or(25.0),
+        speed: args.speed.unwrap_or(0.25),
     };
-    save_png(&image, &args.out)?;
-    println!("wrote {} ({}x{}, {} at t = {}, {})", args.out.display(), size[0], size[1], view_name(args.view), args.time, gpu.adapter.name);
+    spec.check(format).map_err(anyhow::Error::msg)?;
+    let size = size(args, [640, 360])?;
+    check_folder("--video", path)?;
+    if format == VideoFormat::Mp4 && find_ffmpeg().is_none() {
+        bail!("--video {}: {}", path.display(), ExportError::NoFfmpeg);
+    }
+    let gpu = Gpu::new()?;
+    let case = args.case.case()?;
+    let mut source = frame_source(&gpu, args, Some(spec.to * case.units.time_s))?;
+    let frames = spec.frame_times(source.time_unit_s()).map_err(anyhow::Error::msg)?.len();
+    let bar = indicatif::ProgressBar::new(frames as u64);
+    let report = write_video(&gpu, &mut source, &spec, size, path, &mut |done, _| {
+        bar.set_position(done as u64);
+        true
+    })
+    .with_context(|| format!("--video {}", path.display()))?;
+    bar.finish_and_clear();
+    let seconds = report.seconds;
+    println!(
+        "wrote {} ({} frames of {}x{}, {} to {} at {} frames/s and {}x real time: {:.1} s of video; {} at {:.1} kB; {:.1} s, {:.0} ms a frame, {})",
+        path.display(),
+        report.frames,
+        size[0],
+        size[1],
+        spec.from,
+        spec.to,
+        spec.fps,
+        spec.speed,
+        report.frames as f64 / spec.fps,
+        args.view.into_view().name(),
+        report.bytes as f64 / 1000.0,
+        seconds,
+        1000.0 * seconds / report.frames.max(1) as f64,
+        gpu.adapter.name
+    );
+    Ok(())
+}
+
+fn check_folder(flag: &str, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            bail!("{flag} {}: the folder {} does not exist", path.display(), dir.display());
+        }
+    }
     Ok(())
 }
 
@@ -185,72 +299,3 @@ fn diagnose_recording(app: &mut RinglabApp) -> Result<()> {
     Ok(())
 }
 
-fn view_name(v: View) -> &'static str {
-    match v {
-        View::ThreeD => "3D scene",
-        View::Top => "trace panel",
-        View::App => "app",
-    }
-}
-
-fn egui_top_ui(ui: &mut eframe::egui::Ui, tracks: &[(String, Track)], seconds: f64, contact: bool, bounds: Option<trace_panel::Bounds>) {
-    use eframe::egui;
-    // The app's theme (the panel's colours assume it); the first pass already uses it.
-    ui.ctx().set_theme(egui::Theme::Light);
-    egui::CentralPanel::default().show(ui, |ui| {
-        let n = tracks.len().max(1) as f32;
-        let w = (ui.available_width() - 6.0 * (n - 1.0)) / n;
-        let h = ui.available_height();
-        ui.horizontal(|ui| {
-            for (name, t) in tracks {
-                let time = seconds / t.case().units.time_s;
-                ui.allocate_ui(egui::vec2(w, h), |ui| {
-                    trace_panel::trace_panel_ui(ui, &format!("path of A from above: {name}"), t, time, contact, bounds);
-                });
-            }
-        });
-    });
-}
-
-/// The 3D scene of one case, or of two side by side (each half its own view, one camera).
-fn render_3d(gpu: &Gpu, cases: &[Case], seconds: f64, size: [u32; 2], args: &RenderArgs) -> Result<image::RgbaImage> {
-    let r = cases[0].model.body.r as f32;
-    let (camera, follow) = match &args.camera {
-        Some(s) => (parse_camera(s, r)?, false),
-        None => (OrbitCamera::default_for(r), true),
-    };
-    let mut renderer = SceneRenderer::new(&gpu.device, None);
-    let n = cases.len() as u32;
-    let gap = if n > 1 { 4 } else { 0 };
-    let w = (size[0].saturating_sub(gap * (n - 1))) / n;
-    let mut out = image::RgbaImage::from_pixel(size[0], size[1], image::Rgba([255, 255, 255, 255]));
-    for (i, case) in cases.iter().enumerate() {
-        let track = Track::compute(case.clone());
-        let t = seconds / case.units.time_s;
-        let mut cam = camera;
-        if !follow {
-            let path = track.samples_until(t);
-            if let Some(first) = path.first() {
-                let (mut lo, mut hi) = ([first.x_a, first.y_a], [first.x_a, first.y_a]);
-                for s in path {
-                    lo = [lo[0].min(s.x_a), lo[1].min(s.y_a)];
-                    hi = [hi[0].max(s.x_a), hi[1].max(s.y_a)];
-                }
-                cam.target = [(0.5 * (lo[0] + hi[0])) as f32, (0.5 * (lo[1] + hi[1])) as f32, 0.0];
-            }
-        }
-        let frame = scene::scene_frame(&track, t, &cam, follow, !args.no_contact, BODY_LINEAR[i % 2]);
-        let img = gpu.render_scene(&mut renderer, &frame, [w.max(1), size[1]])?;
-        image::imageops::replace(&mut out, &img, (i as u32 * (w + gap)) as i64, 0);
-    }
-    Ok(out)
-}
-
-fn save_png(img: &image::RgbaImage, path: &Path) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !dir.is_dir() {
-            bail!("--out {}: the folder {} does not exist", path.display(), dir.display());
-        }
-    }
-    img.save_with_format(path, image::ImageFormat::Png).with_context(|| format!("cannot write {}", path.display()))
-}

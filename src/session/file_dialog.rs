@@ -1,5 +1,5 @@
-//! File > Open recording: the desktop's file dialog (rfd), on a thread of its own so that the
-//! window keeps drawing while it is open.
+//! The desktop's file dialogs (rfd: File > Open recording, Open case, Save case, the exports),
+//! each on a thread of its own so that the window keeps drawing while it is open.
 //!
 //! On Linux rfd asks the XDG desktop portal over D-Bus (libdbus, loaded at run time) and falls
 //! back to `zenity`; where neither is there it returns nothing, as it does when the user
@@ -56,36 +56,69 @@ fn catch_rfd_log() -> bool {
     })
 }
 
-/// Why no dialog could be shown, from what rfd logged (None: it was shown, or cancelled).
-fn failure(lines: &[String]) -> Option<String> {
-    // rfd logs "Failed to pick file with zenity: ..." when its last fallback failed.
-    lines.iter().any(|l| l.contains("zenity") && l.contains("Failed")).then(|| {
-        "no file dialog is available here (it needs an XDG desktop portal or zenity): drop the .csv file onto the window instead"
-            .to_string()
-    })
+/// Why no dialog could be shown, from what rfd logged (None: it was shown, or cancelled);
+/// `instead` says what the user can do without one.
+fn failure(lines: &[String], instead: &str) -> Option<String> {
+    // rfd logs "Failed to pick file with zenity: ..." (or "save file") when its last fallback failed.
+    lines
+        .iter()
+        .any(|l| l.contains("zenity") && l.contains("Failed"))
+        .then(|| format!("no file dialog is available here (it needs an XDG desktop portal or zenity): {instead}"))
+}
+
+/// One dialog: to open a file, or to save one under a name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DialogRequest {
+    pub title: String,
+    /// Name and extensions of the files shown first ("all files" is always offered too).
+    pub filter: (String, Vec<String>),
+    /// A save dialog with this file name proposed (None: an open dialog).
+    pub save_as: Option<String>,
+    /// The folder it starts in.
+    pub folder: Option<PathBuf>,
+    /// What to do where no dialog can be shown (said to the user).
+    pub instead: String,
 }
 
 /// Opens the dialog (a thread of its own when `background`).
-pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
-    Job::start("file-dialog", background, |_| {
+pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome> {
+    Job::start("file-dialog", background, move |_| {
         // Where another logger came first a failure reads as a cancel (nothing else breaks).
         catch_rfd_log();
         if let Ok(mut v) = RFD_LOG.lock() {
             v.clear();
         }
-        let picked = rfd::FileDialog::new()
-            .set_title("Open a recording (format v1) or a tracker's file")
-            .add_filter("recordings and trackers' files", &["csv", "trk", "txt", "tsv"])
-            .add_filter("all files", &["*"])
-            .pick_file();
+        let (name, extensions) = &request.filter;
+        let mut dialog = rfd::FileDialog::new().set_title(&request.title).add_filter(name, extensions).add_filter("all files", &["*"]);
+        if let Some(folder) = &request.folder {
+            dialog = dialog.set_directory(folder);
+        }
+        let picked = match &request.save_as {
+            Some(file_name) => dialog.set_file_name(file_name).save_file(),
+            None => dialog.pick_file(),
+        };
         match picked {
             Some(p) => DialogOutcome::Picked(p),
             None => {
                 let lines = RFD_LOG.lock().map(|v| v.clone()).unwrap_or_default();
-                failure(&lines).map_or(DialogOutcome::Cancelled, DialogOutcome::Unavailable)
+                failure(&lines, &request.instead).map_or(DialogOutcome::Cancelled, DialogOutcome::Unavailable)
             }
         }
     })
+}
+
+/// File > Open recording's dialog.
+pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
+    run_dialog(
+        background,
+        DialogRequest {
+            title: "Open a recording (format v1) or a tracker's file".into(),
+            filter: ("recordings and trackers' files".into(), ["csv", "trk", "txt", "tsv"].map(String::from).to_vec()),
+            save_as: None,
+            folder: None,
+            instead: "drop the .csv file onto the window instead".into(),
+        },
+    )
 }
 
 #[cfg(test)]
@@ -95,8 +128,8 @@ mod tests {
     #[test]
     fn a_failed_zenity_fallback_means_no_dialog() {
         let lines = vec!["Using zenity fallback".to_string(), "Failed to pick file with zenity: No such file or directory".to_string()];
-        assert!(failure(&lines).is_some_and(|m| m.contains("drop the .csv file")));
-        assert_eq!(failure(&["Using zenity fallback".to_string()]), None);
-        assert_eq!(failure(&[]), None);
+        assert!(failure(&lines, "drop the .csv file").is_some_and(|m| m.contains("drop the .csv file")));
+        assert_eq!(failure(&["Using zenity fallback".to_string()], "x"), None);
+        assert_eq!(failure(&[], "x"), None);
     }
 }

@@ -4,6 +4,9 @@
 //! (File > Open recording, or dropped onto the window) is replayed beside the model and can be
 //! fitted ([`recording_panel`]; its state is a [`RecordingSession`]), and diagnosed
 //! ([`diagnose_panel`]: the mismatch shaded on the plots and the trace, the models adoptable).
+//! For the classroom: presentation mode ([`presentation`]), cases opened and saved, the run as
+//! CSV, pictures and videos ([`file_actions`], [`video_dialog`]; the work in
+//! [`crate::export`]).
 
 pub mod controls;
 pub mod diagnose_panel;
@@ -11,28 +14,36 @@ pub mod import_dialog;
 /// The adapter's adjustments and the lean painter live with the renderer; the window uses them.
 pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
 pub use crate::render::lean_paint;
+mod file_actions;
+pub mod menus;
 pub mod palette;
 mod app_recording;
 mod panels;
 pub mod plots;
+pub mod presentation;
 pub mod recording_panel;
 pub mod recording_view;
 pub mod scene;
 mod settings;
 pub mod teach;
 pub mod trace_panel;
+pub mod video_dialog;
 pub mod view3d;
 
 pub use settings::{Detail3d, FAST_3D_SCALE, SETTINGS_KEY, Settings};
 
 use crate::config::{Case, load_preset};
-use crate::render::OrbitCamera;
+use crate::export::session::ExportSession;
+use crate::render::{Gpu, OrbitCamera};
 use crate::session::RecordingSession;
 use crate::sim::{Player, SimHandle, Track};
 use controls::Change;
 use eframe::egui;
+use presentation::Presentation;
 use settings::builtin;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
+use video_dialog::VideoDialog;
 
 /// Live (threads, wall clock) or fixed at one time (computed at once, paused: tests, PNGs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,6 +135,15 @@ pub struct RinglabApp {
     style_set: bool,
     /// The import dialog's complaint about its fields, until the next try.
     import_problem: Option<String>,
+    /// Files asked for and being written: cases, CSV, pictures, videos.
+    pub exports: ExportSession,
+    pub presentation: Presentation,
+    pub video_dialog: VideoDialog,
+    screenshot: Option<file_actions::Screenshot>,
+    /// The window's graphics device, for pictures of the 3D view (None: they open their own).
+    gpu: Option<Arc<Gpu>>,
+    /// The 3D view's size on the screen in pixels (the size of its picture).
+    view_px: [u32; 2],
 }
 
 impl RinglabApp {
@@ -144,6 +164,12 @@ impl RinglabApp {
             last_restart_latency: None,
             style_set: false,
             import_problem: None,
+            exports: ExportSession::new(live),
+            presentation: Presentation::default(),
+            video_dialog: VideoDialog::default(),
+            screenshot: None,
+            gpu: None,
+            view_px: [1280, 720],
         };
         app.player.set_speed(app.settings.speed);
         // What the last tracker's file needed is used again (fields that no longer parse are
@@ -371,7 +397,13 @@ impl RinglabApp {
         self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
     }
 
+    /// Pictures of the 3D view draw on this device (the window's) instead of opening their own.
+    pub fn set_gpu(&mut self, gpu: Gpu) {
+        self.gpu = Some(Arc::new(gpu));
+    }
+
     fn keys(&mut self, ctx: &egui::Context) {
+        self.classroom_keys(ctx);
         if ctx.egui_wants_keyboard_input() {
             return;
         }
@@ -388,35 +420,50 @@ impl RinglabApp {
     pub fn ui_root(&mut self, ui: &mut egui::Ui) {
         if !self.style_set {
             ui.ctx().set_theme(egui::Theme::Light);
+            // Ctrl +/- are ours: the scale is kept per mode in the settings.
+            ui.ctx().options_mut(|o| o.zoom_with_keyboard = false);
             self.style_set = true;
         }
         if self.live {
             self.tick(Instant::now());
         }
         self.keys(ui.ctx());
+        self.presentation.apply(ui.ctx(), self.live);
+        let zoom = self.zoom_now();
+        if ui.ctx().zoom_factor() != zoom {
+            ui.ctx().set_zoom_factor(zoom);
+        }
         self.take_dropped_files(ui.ctx());
         self.take_recording_events();
+        self.take_export_outcomes();
 
         // Panels leave their background to the window's clear colour (the same grey): on a
         // software rasteriser every filled pixel of egui costs, and the panels cover the window.
         let side = egui::Frame::new().inner_margin(egui::Margin::symmetric(8, 4));
         egui::Panel::top("top").frame(side).show(ui, |ui| self.top_bar_ui(ui));
-        if recording_panel::has_messages(&self.recording) {
+        // While a picture of the window is on its way (eframe takes it of a later frame than
+        // the one that asks) neither the message strip nor the video window shows: the picture
+        // is of the run (for slides).
+        let picture_frame = self.screenshot.is_some();
+        if recording_panel::has_messages(&self.recording) && !picture_frame {
             egui::Panel::top("messages").frame(side).show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
         }
-        egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
-            self.side_tabs_ui(ui);
-            egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
-                SideTab::Model => self.parameters_panel_ui(ui),
-                SideTab::Recording => self.recording_tab_ui(ui),
-                SideTab::Diagnose => self.diagnose_tab_ui(ui),
+        // Presentation mode folds the side panel away (a button in the top bar unfolds it).
+        if !self.presentation.on || self.presentation.side_open {
+            egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
+                self.side_tabs_ui(ui);
+                egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
+                    SideTab::Model => self.parameters_panel_ui(ui),
+                    SideTab::Recording => self.recording_tab_ui(ui),
+                    SideTab::Diagnose => self.diagnose_tab_ui(ui),
+                });
             });
-        });
+        }
         if self.live {
             self.pump_now();
         }
-        egui::Panel::bottom("plots").frame(side).exact_size(280.0).show(ui, |ui| self.plots_panel_ui(ui));
-        let traces_width = if self.settings.compare { 520.0 } else { 340.0 };
+        let (plots_height, traces_width) = self.panel_sizes(ui.ctx());
+        egui::Panel::bottom("plots").frame(side).exact_size(plots_height).show(ui, |ui| self.plots_panel_ui(ui));
         egui::Panel::right("traces").frame(side).default_size(traces_width).resizable(false).show(ui, |ui| {
             self.traces_panel_ui(ui)
         });
@@ -424,11 +471,16 @@ impl RinglabApp {
 
         self.import_dialog(ui.ctx());
         recording_panel::drop_hint_ui(ui.ctx());
+        if !picture_frame {
+            self.video_dialog_window(ui.ctx());
+        }
         lean_paint::hand_over(ui.ctx());
+        self.open_requested_dialog();
+        self.pump_screenshot(ui.ctx());
 
         if self.is_animating() {
             ui.ctx().request_repaint();
-        } else if self.recording.busy() {
+        } else if self.recording.busy() || self.exports.busy() || self.screenshot.is_some() {
             // A fit's or a diagnosis's progress, a file being read: nothing else may be moving.
             ui.ctx().request_repaint_after(Duration::from_millis(100));
         }
@@ -446,6 +498,7 @@ impl eframe::App for RinglabApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        // Presentation mode is for this session: the window opens as a window next time.
         eframe::set_value(storage, SETTINGS_KEY, &self.settings);
     }
 
@@ -456,8 +509,9 @@ impl eframe::App for RinglabApp {
     }
 }
 
-/// Opens the window (`ringlab` with no arguments).
-pub fn run_window() -> Result<(), eframe::Error> {
+/// Opens the window (`ringlab` with no arguments; `case`: `ringlab --config FILE`, run instead
+/// of the case kept from the last session).
+pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::Error> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default().with_title("ringlab: rolling rings").with_inner_size([1480.0, 920.0]),
         ..Default::default()
@@ -470,8 +524,19 @@ pub fn run_window() -> Result<(), eframe::Error> {
                 crate::render::callback::install(rs);
                 adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
             }
-            let settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
-            Ok(Box::new(RinglabApp::new(settings, Mode::Live)))
+            let mut settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
+            if let Some(f) = case {
+                settings.preset = f.name.clone();
+                settings.case = f;
+                settings.compare = false;
+                settings.edit_second = false;
+            }
+            let mut app = RinglabApp::new(settings, Mode::Live);
+            if let Some(rs) = &cc.wgpu_render_state {
+                let gpu = Gpu { device: rs.device.clone(), queue: rs.queue.clone(), adapter: rs.adapter.get_info() };
+                app.set_gpu(gpu);
+            }
+            Ok(Box::new(app))
         }),
     )
 }

@@ -1,50 +1,77 @@
 //! The window's panels around the 3D view.
 
 use super::controls::{self, UnitLabels};
+use super::menus::{self, MenuAction};
+use super::video_dialog::{VideoDialogAction, video_dialog_ui};
 use super::palette::{BODY_LINEAR, DATA_COLOR};
-use super::recording_panel::{self, RecordingAction};
+use super::recording_panel;
 use super::recording_view::DataView;
 use super::{Detail3d, RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
 use crate::config::load_preset;
-use crate::render::OrbitCamera;
+use crate::export::session::FileTask;
+use crate::render::{OrbitCamera, SceneFrame};
 use crate::session::DiagnosedModel;
 use crate::sim::Track;
 use eframe::egui::{self, RichText};
 
 impl RinglabApp {
+    /// The top bar: the menus and the two runs' buttons, then the playback; in presentation
+    /// mode the playback has a row of its own (the scale leaves too few points for one).
     pub(super) fn top_bar_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label(RichText::new("ringlab").strong().size(16.0));
-            let action = recording_panel::file_menu_ui(ui, &self.recording);
-            if action != RecordingAction::None {
-                self.side_tab = SideTab::Recording;
+        if self.presentation.on {
+            ui.horizontal(|ui| self.menus_and_runs_ui(ui));
+            ui.horizontal(|ui| self.playback_row_ui(ui));
+        } else {
+            ui.horizontal(|ui| {
+                self.menus_and_runs_ui(ui);
+                ui.separator();
+                self.playback_row_ui(ui);
+            });
+        }
+    }
+
+    fn menus_and_runs_ui(&mut self, ui: &mut egui::Ui) {
+        ui.label(RichText::new("ringlab").strong().size(16.0));
+        let presenting = self.presentation.on;
+        let action = menus::file_menu_ui(ui, &self.recording, &self.exports, presenting);
+        self.act_on_menu(action);
+        if presenting {
+            let action = menus::view_menu_ui(ui);
+            self.act_on_menu(action);
+            let label = if self.presentation.side_open { "Hide parameters" } else { "Parameters" };
+            if ui.button(label).on_hover_text("the side panel: the model's parameters, the recording").clicked() {
+                self.presentation.side_open = !self.presentation.side_open;
             }
-            self.act_on_recording(action);
-            ui.separator();
-            if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
-                self.ring_vs_disk();
+            if ui.button("Leave presentation").on_hover_text("F11").clicked() {
+                self.act_on_menu(MenuAction::Presentation(false));
             }
-            let mut compare = self.settings.compare;
-            if ui.checkbox(&mut compare, "side by side").changed() {
-                self.set_compare(compare);
-            }
-            ui.separator();
-            let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
-            let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
-            let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
-            let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
-            if act.reset {
-                self.reset();
-            }
-            if act.step {
-                let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
-                self.player.step(dt, self.end_seconds());
-            }
-            if let Some(s) = act.seek {
-                self.player.seek(s);
-            }
-            self.settings.speed = self.player.speed();
-        });
+        }
+        ui.separator();
+        if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
+            self.ring_vs_disk();
+        }
+        let mut compare = self.settings.compare;
+        if ui.checkbox(&mut compare, "side by side").changed() {
+            self.set_compare(compare);
+        }
+    }
+
+    fn playback_row_ui(&mut self, ui: &mut egui::Ui) {
+        let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
+        let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
+        let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
+        let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
+        if act.reset {
+            self.reset();
+        }
+        if act.step {
+            let dt = self.runs.first().map(|r| r.track().case().dt * r.time_s()).unwrap_or(0.0);
+            self.player.step(dt, self.end_seconds());
+        }
+        if let Some(s) = act.seek {
+            self.player.seek(s);
+        }
+        self.settings.speed = self.player.speed();
     }
 
     /// The side panel's tabs: the model's parameters, the recording.
@@ -151,7 +178,7 @@ impl RinglabApp {
         plots::plots_ui(ui, &runs, &label, &lines, mismatch);
     }
 
-    fn run_names(&self) -> Vec<String> {
+    pub(super) fn run_names(&self) -> Vec<String> {
         let mut v = vec![self.settings.preset.clone()];
         if self.settings.compare {
             v.push(self.settings.compare_preset.clone());
@@ -193,20 +220,44 @@ impl RinglabApp {
         });
     }
 
+    /// What the 3D view draws for view `i` seen by `cam`: the run (and the recording in the
+    /// first view), its paths thicker in presentation mode.
+    fn view_frame(&self, i: usize, cam: &OrbitCamera, data: Option<&DataView>, thick: f32) -> SceneFrame {
+        let (follow, contact) = (self.settings.follow, self.settings.show_contact);
+        let mut frame = scene::scene_frame(self.runs[i].track(), self.run_time(i), cam, follow, contact, BODY_LINEAR[i % 2]);
+        if let Some(d) = data.filter(|_| i == 0) {
+            scene::add_recording(&mut frame, &d.path, d.ring.as_ref().map(|(b, p)| (b, *p)));
+        }
+        if thick != 1.0 {
+            for s in &mut frame.traces {
+                s.extra = s.extra.map(|x| x * thick);
+            }
+        }
+        frame
+    }
+
+    /// The 3D view's frames as they are now (its picture).
+    pub(super) fn view_frames(&self) -> Vec<SceneFrame> {
+        let data = self.data_view();
+        let thick = if self.presentation.on { super::presentation::THICK_LINES } else { 1.0 };
+        (0..self.runs.len()).map(|i| self.view_frame(i, &self.camera, data.as_ref(), thick)).collect()
+    }
+
     pub(super) fn view_panel_ui(&mut self, ui: &mut egui::Ui) {
         let home = OrbitCamera::default_for(self.runs.first().map(|r| r.track().case().model.body.r as f32).unwrap_or(1.0));
         let times: Vec<f64> = (0..self.runs.len()).map(|i| self.run_time(i)).collect();
-        let (follow, contact) = (self.settings.follow, self.settings.show_contact);
         let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
         let data = self.data_view();
         let scale = self.settings.detail_3d.scale(super::on_software_adapter(ui.ctx()));
-        let rects = view3d::view3d_ui(ui, &mut self.camera, home, tracks.len(), scale, |i, cam| {
-            let mut frame = scene::scene_frame(tracks[i], times[i], cam, follow, contact, BODY_LINEAR[i % 2]);
-            if let Some(d) = data.as_ref().filter(|_| i == 0) {
-                scene::add_recording(&mut frame, &d.path, d.ring.as_ref().map(|(b, p)| (b, *p)));
-            }
-            frame
-        });
+        let thick = super::presentation::line_scale(ui.ctx());
+        let mut camera = self.camera;
+        let rects = view3d::view3d_ui(ui, &mut camera, home, tracks.len(), scale, |i, cam| self.view_frame(i, cam, data.as_ref(), thick));
+        self.camera = camera;
+        if let (Some(first), Some(last)) = (rects.first(), rects.last()) {
+            let ppp = ui.ctx().pixels_per_point();
+            let size = first.union(*last).size() * ppp;
+            self.view_px = [size.x.round().max(16.0) as u32, size.y.round().max(16.0) as u32];
+        }
         let names = self.run_names();
         for (i, rect) in rects.iter().enumerate() {
             let area = rect.shrink(8.0);
@@ -219,6 +270,30 @@ impl RinglabApp {
         if self.restart_pending.is_some() && self.restart_shown.is_none() && self.live {
             // Still waiting: ask for another frame at once.
             ui.ctx().request_repaint();
+        }
+    }
+
+    /// The plots' height and the trace panel's width: fixed in the window; in presentation
+    /// mode shares of the screen (a projector's may be small in points).
+    pub(super) fn panel_sizes(&self, ctx: &egui::Context) -> (f32, f32) {
+        let two = self.settings.compare;
+        if !self.presentation.on {
+            return (280.0, if two { 520.0 } else { 340.0 });
+        }
+        let screen = ctx.content_rect().size();
+        ((0.36 * screen.y).max(150.0), screen.x * if two { 0.42 } else { 0.3 })
+    }
+
+    /// File > Export video…'s window, and what it asked for.
+    pub(super) fn video_dialog_window(&mut self, ctx: &egui::Context) {
+        let (label, time_s) = match self.runs.first() {
+            Some(r) => (UnitLabels::of(&r.track().case().units).time, r.time_s()),
+            None => (String::new(), 1.0),
+        };
+        match video_dialog_ui(ctx, &mut self.video_dialog, &self.exports, &label, time_s) {
+            VideoDialogAction::None => {}
+            VideoDialogAction::Export(v) => self.request_file(FileTask::Video(v)),
+            VideoDialogAction::Cancel => self.exports.cancel_video(),
         }
     }
 }

@@ -183,6 +183,7 @@ fn quantity_plot_ui(
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[1]), hi.max(p[1])));
         let pad = 0.05 * (hi - lo).max(1e-9);
         let (lo, hi) = (lo - pad, hi + pad);
+        let thick = super::presentation::line_scale(ui.ctx());
         plot.show(ui, |p| {
             if let Some([a, b]) = mismatch.filter(|_| lo.is_finite() && hi.is_finite()) {
                 let iv = [Interval { start: a, end: b }];
@@ -199,7 +200,7 @@ fn quantity_plot_ui(
                         }
                     }
                 }
-                p.line(Line::new(run.name, PlotPoints::new(line)).color(color).width(1.6).allow_band(false));
+                p.line(Line::new(run.name, PlotPoints::new(line)).color(color).width(1.6 * thick).allow_band(false));
                 if q.id == "F_f" {
                     if let Some(a) = run.track.analysis() {
                         let pts: Vec<[f64; 2]> = a
@@ -214,7 +215,7 @@ fn quantity_plot_ui(
             }
             // The data over the model, thinner: the noise shows, and the model under it.
             for (d, pts) in data.iter().zip(measured) {
-                p.line(Line::new(d.name, PlotPoints::new(pts)).color(d.color).width(1.1).allow_band(false));
+                p.line(Line::new(d.name, PlotPoints::new(pts)).color(d.color).width(1.1 * thick).allow_band(false));
             }
             if let Some(run) = runs.first() {
                 p.vline(VLine::new("now", run.t * run.time_factor).color(Color32::from_gray(120)).width(1.0));

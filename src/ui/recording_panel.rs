@@ -1,4 +1,4 @@
-//! The recording in the window: the File menu, the side panel's Recording tab (what was loaded,
+//! The recording in the window: the side panel's Recording tab (what was loaded,
 //! the fit with its progress and results), the message strip for errors, and the hint shown
 //! while a file is dragged over the window. The state lives in [`RecordingSession`] (no egui);
 //! these functions only draw it and say what the user asked for.
@@ -22,23 +22,6 @@ pub enum RecordingAction {
 }
 
 const ERROR_RED: Color32 = Color32::from_rgb(190, 20, 20);
-
-/// The File menu of the top bar.
-pub fn file_menu_ui(ui: &mut egui::Ui, session: &RecordingSession) -> RecordingAction {
-    let mut action = RecordingAction::None;
-    ui.menu_button("File", |ui| {
-        let open = ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…"));
-        if open.on_hover_text("a recording of a ring's marks (format v1), or a tracker's file (DeepLabCut, Tracker, TrackMate, a plain CSV); or drop the file onto the window").clicked() {
-            action = RecordingAction::Open;
-            ui.close();
-        }
-        if ui.add_enabled(session.loaded().is_some(), egui::Button::new("Close recording")).clicked() {
-            action = RecordingAction::Close;
-            ui.close();
-        }
-    });
-    action
-}
 
 /// A strip with the error (red) or note, each with a button that dismisses it. Nothing when
 /// there is neither.

@@ -29,6 +29,9 @@ pub struct Settings {
     pub detail_3d: Detail3d,
     /// What the last tracker's file needed (frame rate, scale, body, marks).
     pub import: super::import_dialog::ImportForm,
+    /// The UI's scale (Ctrl +, Ctrl -, Ctrl 0), and its scale in presentation mode.
+    pub zoom: f32,
+    pub presentation_zoom: f32,
 }
 
 /// The 3D view's resolution: every pixel of the view, or fewer (scaled up when shown) where
@@ -90,6 +93,8 @@ impl Default for Settings {
             continue_on_change: false,
             detail_3d: Detail3d::Auto,
             import: Default::default(),
+            zoom: 1.0,
+            presentation_zoom: super::presentation::PRESENTATION_ZOOM,
         }
     }
 }
@@ -114,5 +119,15 @@ mod tests {
         v.as_object_mut().expect("an object").remove("detail_3d");
         let s: Settings = serde_json::from_value(v).expect("loads");
         assert_eq!(s.detail_3d, Detail3d::Auto);
+    }
+
+    #[test]
+    fn settings_saved_before_the_zoom_existed_load_unscaled() {
+        let mut v = serde_json::to_value(Settings::default()).expect("serialises");
+        let o = v.as_object_mut().expect("an object");
+        o.remove("zoom");
+        o.remove("presentation_zoom");
+        let s: Settings = serde_json::from_value(v).expect("loads");
+        assert_eq!((s.zoom, s.presentation_zoom), (1.0, super::super::presentation::PRESENTATION_ZOOM));
     }
 }

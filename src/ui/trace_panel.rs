@@ -160,6 +160,8 @@ pub fn trace_panel_with_ui(
     let size = ui.available_size().max(Vec2::splat(60.0));
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     let painter = ui.painter_at(rect);
+    // Thicker paths in presentation mode.
+    let thick = super::presentation::line_scale(ui.ctx());
     // No fill: the panel's own background shows (filled pixels cost on a software rasteriser).
     painter.rect_stroke(rect, 4.0, Stroke::new(1.0, Color32::from_gray(170)), egui::StrokeKind::Inside);
     let font = FontId::proportional(12.0);
@@ -213,19 +215,19 @@ pub fn trace_panel_with_ui(
         let p = scr(a[i]);
         if k > 0 && phase != run_phase && !run.is_empty() {
             run.push(p);
-            painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.8, phase_color(run_phase))));
+            painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.8 * thick, phase_color(run_phase))));
         }
         run_phase = phase;
         run.push(p);
     }
     if run.len() > 1 {
-        painter.add(Shape::line(run, Stroke::new(1.8, phase_color(run_phase))));
+        painter.add(Shape::line(run, Stroke::new(1.8 * thick, phase_color(run_phase))));
     }
     // Over the model's path, thinner, so that where the two agree both show.
     for o in overlays {
         let kept = simplify(o.points, tol, |_| false);
         if kept.len() > 1 {
-            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(o.width, o.color)));
+            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(o.width * thick, o.color)));
         }
     }
 

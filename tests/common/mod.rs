@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 #[path = "../../crates/ringlab-core/tests/common/mod.rs"]
 mod data;
+#[allow(unused_imports)]
 pub use data::test_data;
 use std::process::{Command, Output};
 
@@ -61,4 +62,27 @@ pub fn deeplabcut_text(rec: &ringlab::recording::Recording) -> String {
         s.push('\n');
     }
     s
+}
+
+/// The frames of a GIF as shown: each drawn over the one before (transparent pixels keep it).
+pub fn gif_frames(path: &Path) -> Vec<image::RgbaImage> {
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts.read_info(std::fs::File::open(path).expect("the GIF is there")).expect("a GIF");
+    let (w, h) = (d.width() as u32, d.height() as u32);
+    let mut canvas = image::RgbaImage::new(w, h);
+    let mut frames = Vec::new();
+    while let Some(f) = d.read_next_frame().expect("a frame") {
+        for y in 0..f.height as u32 {
+            for x in 0..f.width as u32 {
+                let i = 4 * (y * f.width as u32 + x) as usize;
+                if f.buffer[i + 3] != 0 {
+                    let px = [f.buffer[i], f.buffer[i + 1], f.buffer[i + 2], 255];
+                    canvas.put_pixel(x + f.left as u32, y + f.top as u32, image::Rgba(px));
+                }
+            }
+        }
+        frames.push(canvas.clone());
+    }
+    frames
 }

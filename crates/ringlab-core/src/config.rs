@@ -23,6 +23,8 @@ pub enum ConfigError {
     Parse { path: PathBuf, message: String },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
+    #[error("cannot write {path}: {source}")]
+    Write { path: PathBuf, source: std::io::Error },
     #[error("unknown preset '{name}'; available: {available}")]
     UnknownPreset { name: String, available: String },
 }
@@ -52,7 +54,7 @@ pub struct CaseFile {
     pub initial: InitialSection,
     #[serde(default)]
     pub run: RunSection,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "EffectsSection::is_off")]
     pub effects: EffectsSection,
 }
 
@@ -136,16 +138,27 @@ pub struct EffectsSection {
     /// `[re_ref, exponent, max_factor]`: `C_i min((re_ref / Re)^exponent, max_factor)`.
     pub reynolds_drag: Option<[f64; 3]>,
     /// Rolling-resistance arm (length).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub rolling_friction: f64,
     /// Pivot-friction arm (length).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub pivot_friction: f64,
     /// Quadratic air drag on the centre of mass, `k` in `-k |v_C| v_C` (1/length).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub translational_drag: f64,
     /// Friction coefficient of the sliding contact, static and kinetic (absent: pure rolling).
     pub slip_mu: Option<f64>,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl EffectsSection {
+    /// The paper's model: nothing beyond it (a saved case then has no `[effects]`).
+    pub fn is_off(&self) -> bool {
+        *self == EffectsSection::default()
+    }
 }
 
 /// A validated case, ready to run.
@@ -250,6 +263,32 @@ pub fn load_case_file(path: &Path) -> Result<CaseFile, ConfigError> {
     let file = CaseFile::parse(&text, path)?;
     file.build().map_err(|message| ConfigError::Invalid { path: path.to_path_buf(), message })?;
     Ok(file)
+}
+
+/// What a saved case file starts with (comments; the rest is the case, as the presets have it).
+const SAVED_HEADER: &str = "\
+# A ringlab case (the shape of assets/presets/*.toml), saved by the window's File > Save case.
+# `ringlab --config FILE` opens it in the window, `ringlab simulate --config FILE` runs it.
+# Units: [units] system \"model\" (lengths in mean radii) or \"mm\" (mm, s); angles in rad.
+
+";
+
+impl CaseFile {
+    /// The case as TOML text in the presets' shape (sections in the same order), with a
+    /// header saying what it is. Reading it back gives the same case, number for number.
+    pub fn to_toml(&self) -> Result<String, String> {
+        let body = toml::to_string(self).map_err(|e| e.to_string())?;
+        Ok(format!("{SAVED_HEADER}{body}"))
+    }
+}
+
+/// Writes `file` to `path` (File > Save case). A case that does not build is refused: the
+/// file would not open again.
+pub fn save_case_file(path: &Path, file: &CaseFile) -> Result<(), ConfigError> {
+    let invalid = |message: String| ConfigError::Invalid { path: path.to_path_buf(), message };
+    file.build().map_err(|m| invalid(format!("the case is not valid, not saved: {m}")))?;
+    let text = file.to_toml().map_err(invalid)?;
+    std::fs::write(path, text).map_err(|source| ConfigError::Write { path: path.to_path_buf(), source })
 }
 
 /// Names of all presets.

@@ -1,0 +1,45 @@
+//! What the classroom takes away from a run: a video (GIF or MP4) of it, pictures, the case as a
+//! file, the samples as CSV. Frames come from the same renderer and panels as the window
+//! ([`frames`]); encoding is the `gif` crate through `image` ([`gif`]) or an `ffmpeg` found on
+//! PATH ([`mp4`]).
+
+pub mod csv;
+pub mod frames;
+pub mod gif;
+pub mod mp4;
+pub mod picture;
+pub mod session;
+pub mod video;
+
+pub use frames::{Aim, FrameSource, View};
+pub use video::{VideoFormat, VideoSpec, write_video};
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ExportError {
+    #[error("cannot write {path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{0}")]
+    Render(#[from] crate::render::RenderError),
+    #[error("encoding {path} failed: {message}")]
+    Encode { path: PathBuf, message: String },
+    #[error(
+        "ffmpeg was not found on PATH: an MP4 is made by ffmpeg (Debian: apt-get install ffmpeg); \
+         a GIF needs nothing (name the file .gif)"
+    )]
+    NoFfmpeg,
+    #[error("ffmpeg failed writing {path}: {message}")]
+    Ffmpeg { path: PathBuf, message: String },
+    #[error("{0}")]
+    Invalid(String),
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl ExportError {
+    pub(crate) fn io(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> ExportError + '_ {
+        move |source| ExportError::Io { path: path.to_path_buf(), source }
+    }
+}
