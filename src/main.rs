@@ -7,7 +7,11 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
-#[command(name = "ringlab", version, about = "Rolling rings and disks: the terminal retrograde turn, simulated and explained")]
+#[command(
+    name = "ringlab",
+    version,
+    about = "Rolling rings and disks: the terminal retrograde turn, simulated and explained"
+)]
 #[command(args_conflicts_with_subcommands = true)]
 struct Cli {
     /// Open the window with this case (a TOML file of the presets' shape, as File > Save case
@@ -80,7 +84,8 @@ fn main() -> Result<()> {
         None => {
             // A bad file stops here, with its error, before any window opens.
             let case = cli.config.as_deref().map(ringlab::config::load_case_file).transpose()?;
-            ringlab::ui::run_window(case).map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
+            ringlab::ui::run_window(case)
+                .map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
         }
     }
 }

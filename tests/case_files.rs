@@ -59,7 +59,8 @@ fn a_saved_case_runs_as_its_preset_does() {
     let (a, b) = (d.join("a.csv"), d.join("b.csv"));
     let out = ringlab(&["simulate", "--preset", "coin", "--out", a.to_str().unwrap()]);
     assert!(out.status.success());
-    let out = ringlab(&["simulate", "--config", path.to_str().unwrap(), "--out", b.to_str().unwrap()]);
+    let out =
+        ringlab(&["simulate", "--config", path.to_str().unwrap(), "--out", b.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     std::fs::remove_dir_all(&d).ok();
@@ -74,7 +75,9 @@ fn a_case_that_does_not_build_is_not_saved_and_a_bad_folder_is_named() {
     let e = save_case_file(&path, &f).unwrap_err().to_string();
     assert!(e.contains("bad.toml") && e.contains("not saved"), "{e}");
     assert!(!path.exists());
-    let e = save_case_file(&d.join("no/such/folder.toml"), &load_preset("coin").unwrap()).unwrap_err().to_string();
+    let e = save_case_file(&d.join("no/such/folder.toml"), &load_preset("coin").unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("folder.toml"), "{e}");
     std::fs::remove_dir_all(&d).ok();
 }
@@ -85,7 +88,10 @@ fn the_window_with_a_bad_case_file_stops_before_opening_with_the_files_error() {
     let bad = d.join("typo.toml");
     std::fs::write(&bad, "name = 1\n").unwrap();
     assert_fails_with(&["--config", bad.to_str().unwrap()], &["typo.toml"]);
-    assert_fails_with(&["--config", d.join("missing.toml").to_str().unwrap()], &["missing.toml", "cannot read"]);
+    assert_fails_with(
+        &["--config", d.join("missing.toml").to_str().unwrap()],
+        &["missing.toml", "cannot read"],
+    );
     // The window's flag is not a subcommand's.
     assert_fails_with(&["--config", bad.to_str().unwrap(), "presets"], &["cannot be used"]);
     std::fs::remove_dir_all(&d).ok();

@@ -22,13 +22,18 @@ fn fixed(seconds: f64) -> RinglabApp {
 
 /// A harness without a renderer (menus, keys, files).
 fn harness(app: RinglabApp) -> Harness<'static, RinglabApp> {
-    Harness::builder().with_size([1480.0, 920.0]).build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
+    Harness::builder()
+        .with_size([1480.0, 920.0])
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
 }
 
 /// A harness drawing through wgpu (lavapipe) with the scene renderer installed, as the window
 /// has it: its screenshots are real renders.
 fn drawing_harness(app: RinglabApp, size: [f32; 2]) -> Harness<'static, RinglabApp> {
-    let rs = egui_kittest::wgpu::create_render_state(egui_kittest::wgpu::default_wgpu_setup(), egui_wgpu::RendererOptions::PREDICTABLE);
+    let rs = egui_kittest::wgpu::create_render_state(
+        egui_kittest::wgpu::default_wgpu_setup(),
+        egui_wgpu::RendererOptions::PREDICTABLE,
+    );
     ringlab::render::callback::install(&rs);
     let adapter = rs.adapter.get_info();
     Harness::builder()
@@ -64,7 +69,15 @@ fn the_file_menu_has_the_classroom_entries() {
     h.run_steps(2);
     h.get_by_label("File").click();
     h.run_steps(2);
-    for entry in ["Open case…", "Save case…", "Export run as CSV…", "Save picture of the window… F12", "Save picture of the 3D view… Shift+F12", "Export video…", "View"] {
+    for entry in [
+        "Open case…",
+        "Save case…",
+        "Export run as CSV…",
+        "Save picture of the window… F12",
+        "Save picture of the 3D view… Shift+F12",
+        "Export video…",
+        "View",
+    ] {
         assert!(h.query_by_label(entry).is_some(), "File > {entry} is missing");
     }
 }
@@ -75,7 +88,8 @@ fn save_case_writes_the_case_and_open_case_reads_it_back() {
     let mut h = harness(fixed(1.0));
     h.run_steps(2);
     // A case that is not a preset's: C1 moved by the slider.
-    h.get_by_role_and_label(egui::accesskit::Role::Slider, "C1 (about e1, a diameter)").increment_accesskit();
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "C1 (about e1, a diameter)")
+        .increment_accesskit();
     h.run_steps(2);
     menu(&mut h, "Save case…");
     let task = h.state_mut().exports.take_request();
@@ -95,7 +109,11 @@ fn save_case_writes_the_case_and_open_case_reads_it_back() {
     h.state_mut().file_chosen(FileTask::OpenCase, saved);
     h.run_steps(2);
     assert_eq!(h.state().settings.case, read);
-    assert_eq!(h.state().tracks()[0].case().model.c_drag, read.drag.c, "the run uses the opened case");
+    assert_eq!(
+        h.state().tracks()[0].case().model.c_drag,
+        read.drag.c,
+        "the run uses the opened case"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -130,9 +148,16 @@ fn export_run_as_csv_writes_what_simulate_writes() {
     let case = dir.join("case.toml");
     h.state_mut().file_chosen(FileTask::SaveCase, case.clone());
     let cli = dir.join("cli.csv");
-    let out = common::ringlab(&["simulate", "--config", case.to_str().unwrap(), "--out", cli.to_str().unwrap()]);
+    let out = common::ringlab(&[
+        "simulate",
+        "--config",
+        case.to_str().unwrap(),
+        "--out",
+        cli.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let (ours, theirs) = (std::fs::read_to_string(&csv).unwrap(), std::fs::read_to_string(&cli).unwrap());
+    let (ours, theirs) =
+        (std::fs::read_to_string(&csv).unwrap(), std::fs::read_to_string(&cli).unwrap());
     assert!(ours.lines().count() > 100, "{} lines", ours.lines().count());
     assert_eq!(ours, theirs, "the window's CSV is simulate --out's");
     std::fs::remove_dir_all(&dir).ok();
@@ -196,14 +221,17 @@ fn ctrl_plus_and_minus_scale_the_ui_and_each_mode_keeps_its_scale() {
     h.run_steps(2);
     assert_eq!(h.ctx.zoom_factor(), p, "Ctrl 0: the mode's own scale");
     // Kept with the settings (eframe storage).
-    let kept: Settings = serde_json::from_value(serde_json::to_value(&h.state().settings).unwrap()).unwrap();
+    let kept: Settings =
+        serde_json::from_value(serde_json::to_value(&h.state().settings).unwrap()).unwrap();
     assert_eq!((kept.zoom, kept.presentation_zoom), (1.1, p));
 }
 
 #[test]
 fn f12_saves_the_window_and_shift_f12_the_3d_view() {
     let dir = temp_dir("pictures");
-    let mut app = fixed(ringlab::config::load_preset("paper-ring").unwrap().build().unwrap().units.time_s * 30.0);
+    let mut app = fixed(
+        ringlab::config::load_preset("paper-ring").unwrap().build().unwrap().units.time_s * 30.0,
+    );
     app.exports.last_folder = Some(dir.clone());
     let mut h = drawing_harness(app, [1000.0, 700.0]);
     h.run_steps(3);
@@ -212,7 +240,9 @@ fn f12_saves_the_window_and_shift_f12_the_3d_view() {
     h.run_steps(3);
     h.state_mut().finish_export_jobs();
     let window = dir.join("ringlab-paper-ring-t30.0.png");
-    let img = image::open(&window).unwrap_or_else(|e| panic!("{}: {e}; {}", window.display(), message(h.state()))).to_rgba8();
+    let img = image::open(&window)
+        .unwrap_or_else(|e| panic!("{}: {e}; {}", window.display(), message(h.state())))
+        .to_rgba8();
     assert_eq!(img.dimensions(), (1000, 700));
     let colours: std::collections::HashSet<[u8; 4]> = img.pixels().map(|p| p.0).collect();
     assert!(colours.len() > 200, "a real picture of the window: {} colours", colours.len());
@@ -221,16 +251,23 @@ fn f12_saves_the_window_and_shift_f12_the_3d_view() {
     h.run_steps(2);
     h.state_mut().finish_export_jobs();
     let view = dir.join("ringlab-paper-ring-3d-t30.0.png");
-    let img = image::open(&view).unwrap_or_else(|e| panic!("{}: {e}; {}", view.display(), message(h.state()))).to_rgba8();
+    let img = image::open(&view)
+        .unwrap_or_else(|e| panic!("{}: {e}; {}", view.display(), message(h.state())))
+        .to_rgba8();
     let (w, h3) = img.dimensions();
-    assert!(w > 300 && w < 1000 && h3 > 200 && h3 < 700, "the 3D view's size on the screen: {w}x{h3}");
+    assert!(
+        w > 300 && w < 1000 && h3 > 200 && h3 < 700,
+        "the 3D view's size on the screen: {w}x{h3}"
+    );
     // A second F12 does not overwrite the first; the message strip (saying where the first
     // went) is left out of the picture: the same moment, the same picture.
     assert!(message(h.state()).contains("saved the 3D view"));
     h.key_press(Key::F12);
     h.run_steps(3);
     h.state_mut().finish_export_jobs();
-    let second = image::open(dir.join("ringlab-paper-ring-t30.0-2.png")).expect("a second picture").to_rgba8();
+    let second = image::open(dir.join("ringlab-paper-ring-t30.0-2.png"))
+        .expect("a second picture")
+        .to_rgba8();
     let first = image::open(&window).unwrap().to_rgba8();
     let differing = first.pixels().zip(second.pixels()).filter(|(a, b)| a != b).count();
     assert!(differing < 50, "{differing} pixels differ: the strip is in the picture");
@@ -273,7 +310,9 @@ fn export_video_makes_a_gif_of_the_chosen_span() {
     h.run_steps(2);
     h.get_by_label("Export…").click();
     h.run_steps(2);
-    let Some(FileTask::Video(v)) = h.state_mut().exports.take_request() else { panic!("Export… asks for a file") };
+    let Some(FileTask::Video(v)) = h.state_mut().exports.take_request() else {
+        panic!("Export… asks for a file")
+    };
     assert_eq!((v.size, v.spec.to, v.format), ([120, 68], 6.0, VideoFormat::Gif));
     let gif = dir.join("turn.gif");
     h.state_mut().file_chosen(FileTask::Video(v), gif.clone());
@@ -296,7 +335,10 @@ fn a_video_runs_on_its_thread_and_cancel_leaves_no_file() {
     v.spec = ringlab::export::VideoSpec { from: 0.0, to: 200.0, fps: 25.0, speed: 0.05 };
     let gif = dir.join("long.gif");
     app.file_chosen(FileTask::Video(v), gif.clone());
-    assert!(app.exports.video_progress().is_some(), "the call returned at once: the video is on its thread");
+    assert!(
+        app.exports.video_progress().is_some(),
+        "the call returned at once: the video is on its thread"
+    );
     app.exports.cancel_video();
     assert!(app.exports.video_cancelling());
     app.finish_export_jobs();
@@ -304,4 +346,3 @@ fn a_video_runs_on_its_thread_and_cancel_leaves_no_file() {
     assert!(!gif.exists(), "a cancelled video leaves no file");
     std::fs::remove_dir_all(&dir).ok();
 }
-

@@ -8,17 +8,24 @@ use common::{assert_fails_with, ringlab};
 
 use std::path::PathBuf;
 
-
 #[test]
 fn the_sample_is_none_with_json_and_a_report() {
     let sample = common::test_data("sample-ring.csv");
-    let dir: PathBuf = std::env::temp_dir().join(format!("ringlab-diagnose-{}", std::process::id()));
-    let out = ringlab(&["diagnose", sample.to_str().unwrap(), "--json", "--report", dir.to_str().unwrap()]);
+    let dir: PathBuf =
+        std::env::temp_dir().join(format!("ringlab-diagnose-{}", std::process::id()));
+    let out = ringlab(&[
+        "diagnose",
+        sample.to_str().unwrap(),
+        "--json",
+        "--report",
+        dir.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     assert_eq!(v["left_out"], "none", "{}", v["explanation"]);
     assert!(v["mismatch"].is_null(), "{}", v["mismatch"]);
-    let (before, after) = (v["before"]["rms_px"].as_f64().unwrap(), v["after"]["rms_px"].as_f64().unwrap());
+    let (before, after) =
+        (v["before"]["rms_px"].as_f64().unwrap(), v["after"]["rms_px"].as_f64().unwrap());
     assert_eq!(before, after);
     // The sample's noise is 0.5 px; its header's width (18 mm) is the 17.74 mm ring's rounded up.
     assert!(before < 0.52, "misfit {before}");
@@ -45,7 +52,11 @@ fn the_sample_is_none_with_json_and_a_report() {
         assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 2000, "{png}");
     }
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("**Left out: none**") && md.contains("(residual.png)") && md.contains("| rank | candidate"));
+    assert!(
+        md.contains("**Left out: none**")
+            && md.contains("(residual.png)")
+            && md.contains("| rank | candidate")
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -67,7 +78,8 @@ fn bad_files_and_flags_are_clear_errors() {
 fn the_bench_table_is_made_from_saved_rows() {
     let dir = std::env::temp_dir().join(format!("ringlab-bench-rows-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let header = "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames\n";
+    let header =
+        "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames\n";
     let slip = dir.join("slip.csv");
     std::fs::write(
         &slip,
@@ -84,30 +96,77 @@ fn the_bench_table_is_made_from_saved_rows() {
     .unwrap();
     let readme = dir.join("diagnosis.md");
     let intro = "intro: the table lies between `<!-- diagnose-bench begin -->` and `<!-- diagnose-bench end -->`\n";
-    std::fs::write(&readme, format!("{intro}<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n")).unwrap();
-    let args = |files: &str| vec!["diagnose-bench".to_string(), "--from-csv".into(), files.into(), "--readme".into(), readme.to_str().unwrap().into()];
-    let out = ringlab(&args(&format!("{},{}", slip.display(), none.display())).iter().map(String::as_str).collect::<Vec<_>>());
+    std::fs::write(
+        &readme,
+        format!(
+            "{intro}<!-- diagnose-bench begin -->\nold table\n<!-- diagnose-bench end -->\nafter\n"
+        ),
+    )
+    .unwrap();
+    let args = |files: &str| {
+        vec![
+            "diagnose-bench".to_string(),
+            "--from-csv".into(),
+            files.into(),
+            "--readme".into(),
+            readme.to_str().unwrap().into(),
+        ]
+    };
+    let out = ringlab(
+        &args(&format!("{},{}", slip.display(), none.display()))
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&readme).unwrap();
-    assert!(!text.contains("old table") && text.starts_with(intro) && text.ends_with("after\n"), "{text}");
+    assert!(
+        !text.contains("old table") && text.starts_with(intro) && text.ends_with("after\n"),
+        "{text}"
+    );
     assert!(text.contains("| camera-known:tilted | none | 1 | 1/1 (false alarms 0%) |"), "{text}");
     assert!(text.contains("| single:slip | slip | 3 | 2/3 (67%) | unexplained | 10.99 -> 0.000 px | >999x | 20.0 / 30.0 s |"), "{text}");
     // Pairs are right in either order; a `none` where the baseline misses by twice the noise is counted.
-    assert!(text.contains("| pair:reynolds_drag+pivot_friction | reynolds_drag+pivot_friction | 1 | 1/1 (100%) |"), "{text}");
+    assert!(
+        text.contains(
+            "| pair:reynolds_drag+pivot_friction | reynolds_drag+pivot_friction | 1 | 1/1 (100%) |"
+        ),
+        "{text}"
+    );
     assert!(text.contains("twice the noise or more: 1."), "{text}");
 
     // The same recording twice, a row that is not one, a file that is not a table.
     let s = slip.to_str().unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", &format!("{s},{s}")], &["single:slip seed 1", "twice"]);
+    assert_fails_with(
+        &["diagnose-bench", "--from-csv", &format!("{s},{s}")],
+        &["single:slip seed 1", "twice"],
+    );
     let bad = dir.join("bad.csv");
-    std::fs::write(&bad, format!("{header}single:slip,1,slip,slap,10,0.5,0.5,0,12,1500\n")).unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "'slap'"]);
-    std::fs::write(&bad, format!("{header}single:slip,1,slip,slip,ten,0.5,0.5,0,12,1500\n")).unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "before_rms_px", "'ten'"]);
+    std::fs::write(&bad, format!("{header}single:slip,1,slip,slap,10,0.5,0.5,0,12,1500\n"))
+        .unwrap();
+    assert_fails_with(
+        &["diagnose-bench", "--from-csv", bad.to_str().unwrap()],
+        &["bad.csv:2", "'slap'"],
+    );
+    std::fs::write(&bad, format!("{header}single:slip,1,slip,slip,ten,0.5,0.5,0,12,1500\n"))
+        .unwrap();
+    assert_fails_with(
+        &["diagnose-bench", "--from-csv", bad.to_str().unwrap()],
+        &["bad.csv:2", "before_rms_px", "'ten'"],
+    );
     std::fs::write(&bad, format!("{header}twin:slip,1,slip,slip,10,0.5,0.5,0,12,1500\n")).unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:2", "'twin:slip' is not a family"]);
+    assert_fails_with(
+        &["diagnose-bench", "--from-csv", bad.to_str().unwrap()],
+        &["bad.csv:2", "'twin:slip' is not a family"],
+    );
     std::fs::write(&bad, "frame,x1,y1\n").unwrap();
-    assert_fails_with(&["diagnose-bench", "--from-csv", bad.to_str().unwrap()], &["bad.csv:1", "not a diagnose-bench table"]);
-    assert_fails_with(&["diagnose-bench", "--families", "pair:slip+slip"], &["--families", "'pair:slip+slip'"]);
+    assert_fails_with(
+        &["diagnose-bench", "--from-csv", bad.to_str().unwrap()],
+        &["bad.csv:1", "not a diagnose-bench table"],
+    );
+    assert_fails_with(
+        &["diagnose-bench", "--families", "pair:slip+slip"],
+        &["--families", "'pair:slip+slip'"],
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

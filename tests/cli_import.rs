@@ -30,9 +30,29 @@ fn import_command_writes_a_recording_that_fit_and_diagnose_read_alike() {
     let dlc = write(&d.join("ring.csv"), &text);
     let out = d.join("ring.rec.csv");
     let s = |p: &Path| p.display().to_string();
-    let body = ["--shape", "ring", "--outer-radius-mm", "20.66", "--width-mm", "18", "--thickness-mm", "1"];
+    let body = [
+        "--shape",
+        "ring",
+        "--outer-radius-mm",
+        "20.66",
+        "--width-mm",
+        "18",
+        "--thickness-mm",
+        "1",
+    ];
     let dlc_name = s(&dlc);
-    let mut args = vec!["import", "--from", "dlc", &dlc_name, "--fps", "300", "--px-per-mm", "3.364764", "--marks", "m1,m2,m3,m4"];
+    let mut args = vec![
+        "import",
+        "--from",
+        "dlc",
+        &dlc_name,
+        "--fps",
+        "300",
+        "--px-per-mm",
+        "3.364764",
+        "--marks",
+        "m1,m2,m3,m4",
+    ];
     args.extend(body);
     let o = s(&out);
     args.extend(["--out", &o]);
@@ -49,7 +69,21 @@ fn import_command_writes_a_recording_that_fit_and_diagnose_read_alike() {
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
         serde_json::from_slice(&r.stdout).expect("json")
     };
-    let direct = fit_json(&[&[s(&dlc).as_str(), "--fps", "300", "--px-per-mm", "3.364764", "--marks", "m1,m2,m3,m4"][..], &body].concat());
+    let direct = fit_json(
+        &[
+            &[
+                s(&dlc).as_str(),
+                "--fps",
+                "300",
+                "--px-per-mm",
+                "3.364764",
+                "--marks",
+                "m1,m2,m3,m4",
+            ][..],
+            &body,
+        ]
+        .concat(),
+    );
     let via_file = fit_json(&[o.as_str()]);
     // (The recording holds hundredths of a pixel, the DeepLabCut file thousandths.)
     for i in 0..3 {
@@ -63,8 +97,14 @@ fn import_command_writes_a_recording_that_fit_and_diagnose_read_alike() {
     let r = common::ringlab(&["fit", &o, "--fps", "250", "--json"]);
     assert!(r.status.success());
     let err = String::from_utf8_lossy(&r.stderr);
-    assert!(err.contains("a ringlab v1 recording, read by its own header (the given fps not applied)"), "{err}");
-    common::assert_fails_with(&["import", &s(&dlc), "--out", &o, "--from", "excel"], &["--from 'excel'", "dlc, tracker, trackmate, csv"]);
+    assert!(
+        err.contains("a ringlab v1 recording, read by its own header (the given fps not applied)"),
+        "{err}"
+    );
+    common::assert_fails_with(
+        &["import", &s(&dlc), "--out", &o, "--from", "excel"],
+        &["--from 'excel'", "dlc, tracker, trackmate, csv"],
+    );
 }
 
 /// Reads a `--table` CSV: (file, left_out, error) per row.
@@ -110,24 +150,54 @@ fn diagnose_shards_cover_a_folder_exactly_once_and_merge() {
     let dlc = common::deeplabcut_text(&short(400));
     write(&folder.join("c-dlc.csv"), &dlc);
     write(&folder.join("b.csv"), "not a recording\n");
-    write(&folder.join("d.csv"), "# ringlab-recording v1\n# fps = -3\n# px_per_mm = 3\n# shape = disk\n# outer_radius_mm = 10\n# width_mm = 2\nframe,x1,y1,x2,y2,x3,y3,x4,y4\n");
-    let mut files: Vec<String> = std::fs::read_dir(&folder).unwrap().map(|e| e.unwrap().path().display().to_string()).collect();
+    write(
+        &folder.join("d.csv"),
+        "# ringlab-recording v1\n# fps = -3\n# px_per_mm = 3\n# shape = disk\n# outer_radius_mm = 10\n# width_mm = 2\nframe,x1,y1,x2,y2,x3,y3,x4,y4\n",
+    );
+    let mut files: Vec<String> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|e| e.unwrap().path().display().to_string())
+        .collect();
     files.reverse();
-    let flags = ["--fps", "300", "--px-per-mm", "3.364764", "--marks", "m1,m2,m3,m4", "--preset", "paper-ring", "--threads", "1"];
+    let flags = [
+        "--fps",
+        "300",
+        "--px-per-mm",
+        "3.364764",
+        "--marks",
+        "m1,m2,m3,m4",
+        "--preset",
+        "paper-ring",
+        "--threads",
+        "1",
+    ];
     let mut tables = Vec::new();
     let mut seen: Vec<String> = Vec::new();
     for i in 0..3 {
         let table = d.join(format!("shard{i}.csv")).display().to_string();
         let shard = format!("{i}/3");
-        let args: Vec<&str> = [&["diagnose"][..], &files.iter().map(String::as_str).collect::<Vec<_>>(), &flags, &["--table", &table, "--shard", &shard]].concat();
+        let args: Vec<&str> = [
+            &["diagnose"][..],
+            &files.iter().map(String::as_str).collect::<Vec<_>>(),
+            &flags,
+            &["--table", &table, "--shard", &shard],
+        ]
+        .concat();
         let out = common::ringlab(&args);
         let rows = table_rows(Path::new(&table));
         let errors = rows.iter().filter(|r| r.1 == "error").count();
-        assert_eq!(out.status.success(), errors == 0, "shard {i}: exit status against {errors} error rows");
+        assert_eq!(
+            out.status.success(),
+            errors == 0,
+            "shard {i}: exit status against {errors} error rows"
+        );
         for (file, left_out, error) in rows {
             match Path::new(&file).file_name().unwrap().to_str().unwrap() {
                 "b.csv" => assert!(error.contains("b.csv") && error.contains("--from"), "{error}"),
-                "d.csv" => assert!(error.contains("d.csv:2: fps = -3 must be greater than zero"), "{error}"),
+                "d.csv" => assert!(
+                    error.contains("d.csv:2: fps = -3 must be greater than zero"),
+                    "{error}"
+                ),
                 _ => assert!(left_out != "error" && error.is_empty(), "{file}: {left_out} {error}"),
             }
             seen.push(file);
@@ -143,10 +213,18 @@ fn diagnose_shards_cover_a_folder_exactly_once_and_merge() {
     assert_eq!(seen.len(), 5);
 
     let all = d.join("all.csv").display().to_string();
-    let merge: Vec<&str> = [&["diagnose", "--merge"][..], &tables.iter().map(String::as_str).collect::<Vec<_>>(), &["--table", &all]].concat();
+    let merge: Vec<&str> = [
+        &["diagnose", "--merge"][..],
+        &tables.iter().map(String::as_str).collect::<Vec<_>>(),
+        &["--table", &all],
+    ]
+    .concat();
     let out = common::ringlab(&merge);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let merged: Vec<String> = table_rows(Path::new(&all)).into_iter().map(|r| r.0).collect();
     assert_eq!(merged, sorted, "merged in file order");
-    common::assert_fails_with(&["diagnose", "--merge", &tables[0], &tables[0], "--table", &all], &["in two shards", "shard0.csv:2"]);
+    common::assert_fails_with(
+        &["diagnose", "--merge", &tables[0], &tables[0], "--table", &all],
+        &["in two shards", "shard0.csv:2"],
+    );
 }

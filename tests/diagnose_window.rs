@@ -30,7 +30,9 @@ fn concealed_file(kind: EffectKind) -> PathBuf {
 #[test]
 fn a_concealed_effect_is_diagnosed_in_the_window_and_its_model_adopted() {
     let app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 1.0 });
-    let mut h = Harness::builder().with_size([1480.0, 920.0]).build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app);
+    let mut h = Harness::builder()
+        .with_size([1480.0, 920.0])
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app);
     h.run_steps(2);
     let path = concealed_file(EffectKind::ReynoldsDrag);
     h.input_mut().dropped_files.push(Arc::new(Dropped(path.clone())));
@@ -74,7 +76,10 @@ fn a_concealed_effect_is_diagnosed_in_the_window_and_its_model_adopted() {
     h.run_steps(2);
     let app = h.state();
     assert!(app.tracks()[0].case().model.effects.reynolds_drag.is_none());
-    assert_eq!(app.tracks()[0].case().model.c_drag, app.recording.diagnosed().unwrap().result.before.c);
+    assert_eq!(
+        app.tracks()[0].case().model.c_drag,
+        app.recording.diagnosed().unwrap().result.before.c
+    );
     std::fs::remove_file(&path).ok();
 }
 

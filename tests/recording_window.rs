@@ -17,10 +17,11 @@ use ringlab::ui::{Mode, RinglabApp, Settings, SideTab};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-
 fn harness() -> Harness<'static, RinglabApp> {
     let app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 1.0 });
-    Harness::builder().with_size([1480.0, 920.0]).build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
+    Harness::builder()
+        .with_size([1480.0, 920.0])
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
 }
 
 fn drop_file(h: &mut Harness<'static, RinglabApp>, path: &Path) {
@@ -94,7 +95,9 @@ fn a_bad_file_shows_its_error_with_file_and_line_and_the_app_keeps_running() {
     let two: String = head
         .lines()
         .map(|l| match l.split(',').collect::<Vec<_>>()[..] {
-            [f, x1, y1, _, _, x3, y3, _, _] if !l.starts_with("frame") => format!("{f},{x1},{y1},,,{x3},{y3},,\n"),
+            [f, x1, y1, _, _, x3, y3, _, _] if !l.starts_with("frame") => {
+                format!("{f},{x1},{y1},,,{x3},{y3},,\n")
+            }
             _ => format!("{l}\n"),
         })
         .collect();
@@ -114,7 +117,10 @@ fn the_fit_runs_on_its_thread_and_can_be_cancelled() {
     app.finish_recording_jobs();
     assert!(app.recording.loaded().is_some(), "{:?}", app.recording.error);
     app.act_on_recording(RecordingAction::Fit);
-    assert!(app.recording.fit_progress().is_some(), "the fit runs on its thread: the call returned at once");
+    assert!(
+        app.recording.fit_progress().is_some(),
+        "the fit runs on its thread: the call returned at once"
+    );
     app.act_on_recording(RecordingAction::CancelFit);
     assert!(app.recording.fit_cancelling());
     app.finish_recording_jobs();
@@ -142,7 +148,10 @@ fn a_session_reads_on_its_thread() {
     assert_eq!((a0, p0), (f(0).angles.unwrap(), f(0).a_mm.unwrap()));
     let (am, pm) = s.pose_at(0.5 / 300.0).expect("a pose");
     let (a1, p1) = (f(1).angles.unwrap(), f(1).a_mm.unwrap());
-    assert!((am.phi - 0.5 * (a0.phi + a1.phi)).abs() < 1e-9 && (pm[0] - 0.5 * (p0[0] + p1[0])).abs() < 1e-9);
+    assert!(
+        (am.phi - 0.5 * (a0.phi + a1.phi)).abs() < 1e-9
+            && (pm[0] - 0.5 * (p0[0] + p1[0])).abs() < 1e-9
+    );
     s.close();
     assert!(s.loaded().is_none());
 }
@@ -186,7 +195,10 @@ fn a_dropped_deeplabcut_file_asks_for_what_it_lacks_and_remembers_it() {
     h.state_mut().settings.import.fps = "three hundred".into();
     h.get_by_label("Open").click();
     h.run_steps(2);
-    assert!(h.query_by_label_contains("frames per second: 'three hundred' is not a positive number").is_some());
+    assert!(
+        h.query_by_label_contains("frames per second: 'three hundred' is not a positive number")
+            .is_some()
+    );
     assert!(h.state().recording.loaded().is_none());
 
     {
@@ -203,7 +215,12 @@ fn a_dropped_deeplabcut_file_asks_for_what_it_lacks_and_remembers_it() {
     h.get_by_label("Open").click();
     h.run_steps(3);
     let app = h.state();
-    assert!(app.recording.pending_import().is_none(), "the dialog is gone: {:?} {:?}", app.recording.pending_import(), app.import_problem_text());
+    assert!(
+        app.recording.pending_import().is_none(),
+        "the dialog is gone: {:?} {:?}",
+        app.recording.pending_import(),
+        app.import_problem_text()
+    );
     let l = app.recording.loaded().expect("read with the options");
     assert_eq!(l.frames().len(), 600);
     assert_eq!(l.recording.header.fps, 300.0);

@@ -16,9 +16,23 @@ fn out_dir() -> std::path::PathBuf {
 #[test]
 fn renders_each_view_at_the_asked_size() {
     let dir = out_dir();
-    for (view, extra) in [("3d", vec![]), ("top", vec!["--compare", "paper-disk-drag"]), ("app", vec![])] {
+    for (view, extra) in
+        [("3d", vec![]), ("top", vec!["--compare", "paper-disk-drag"]), ("app", vec![])]
+    {
         let path = dir.join(format!("{view}.png"));
-        let mut args = vec!["render", "--time", "30", "--width", "400", "--height", "300", "--view", view, "--out", path.to_str().unwrap()];
+        let mut args = vec![
+            "render",
+            "--time",
+            "30",
+            "--width",
+            "400",
+            "--height",
+            "300",
+            "--view",
+            view,
+            "--out",
+            path.to_str().unwrap(),
+        ];
         args.extend(extra);
         let out = ringlab(&args);
         assert!(out.status.success(), "{view}: {}", String::from_utf8_lossy(&out.stderr));

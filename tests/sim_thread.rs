@@ -45,7 +45,11 @@ fn states_arrive_in_order_without_gaps_and_match_a_run_in_one_go() {
     assert_on_grid(&h.track, dt);
 
     let reference = Track::compute(c);
-    assert_eq!(h.track.samples(), reference.samples(), "the thread computes what a run in one go computes");
+    assert_eq!(
+        h.track.samples(),
+        reference.samples(),
+        "the thread computes what a run in one go computes"
+    );
     assert_eq!(h.track.turning_points().len(), reference.turning_points().len());
     assert_eq!(h.track.analysis(), reference.analysis());
     assert!(h.track.inflection_time().is_some());
@@ -119,7 +123,10 @@ fn continuing_keeps_the_past_and_changes_the_drag_from_then_on() {
     assert_on_grid(&h.track, dt);
     let after = h.track.state_at(40.0).expect("state").sample;
     let ring_after = ring_only.state_at(40.0).expect("state").sample;
-    assert!((after.y[3] - ring_after.y[3]).abs() + (after.y[5] - ring_after.y[5]).abs() > 1e-6, "the new drag acts");
+    assert!(
+        (after.y[3] - ring_after.y[3]).abs() + (after.y[5] - ring_after.y[5]).abs() > 1e-6,
+        "the new drag acts"
+    );
     // Turning points of the past are kept; the analysis continues from the original start.
     assert!(h.track.turning_points().iter().filter(|p| p.sample.t <= 30.0).count() >= 10);
     assert_eq!(h.track.start().map(|s| s.t), Some(0.0));

@@ -26,7 +26,10 @@ fn options(width: u32, height: u32) -> SnapshotOptions {
 /// A harness builder drawing through wgpu with the scene renderer installed and egui set up
 /// for the adapter, as the window has them.
 fn builder<S>(width: u32, height: u32) -> egui_kittest::HarnessBuilder<S> {
-    let rs = egui_kittest::wgpu::create_render_state(egui_kittest::wgpu::default_wgpu_setup(), egui_wgpu::RendererOptions::PREDICTABLE);
+    let rs = egui_kittest::wgpu::create_render_state(
+        egui_kittest::wgpu::default_wgpu_setup(),
+        egui_wgpu::RendererOptions::PREDICTABLE,
+    );
     ringlab::render::callback::install(&rs);
     let adapter = rs.adapter.get_info();
     Harness::builder()
@@ -81,7 +84,9 @@ fn app_ring_vs_disk() {
 fn app_sample_recording_fitted() {
     let (w, h) = (1480u32, 920u32);
     let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: 0.0 });
-    app.open_recording(std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sample-ring.csv"));
+    app.open_recording(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sample-ring.csv"),
+    );
     let mut harness = builder(w, h).build_ui_state(
         |ui, app: &mut RinglabApp| {
             background(ui);
@@ -107,7 +112,11 @@ fn app_sample_recording_fitted() {
 #[test]
 fn app_diagnosed_reynolds_drag() {
     let (w, h) = (1480u32, 920u32);
-    let (rec, _) = ringlab::analysis::diagnose::concealed::concealed_recording(ringlab::physics::EffectKind::ReynoldsDrag, 1).unwrap();
+    let (rec, _) = ringlab::analysis::diagnose::concealed::concealed_recording(
+        ringlab::physics::EffectKind::ReynoldsDrag,
+        1,
+    )
+    .unwrap();
     // The file's name shows in the picture: a fixed one, in a folder of this process's own.
     let dir = std::env::temp_dir().join(format!("ringlab-snapshot-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -117,8 +126,14 @@ fn app_diagnosed_reynolds_drag() {
     app.open_recording(path.clone());
     app.side_tab = ringlab::ui::SideTab::Diagnose;
     app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Diagnose);
-    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Adopt(ringlab::session::DiagnosedModel::Improved));
-    assert!(app.recording.diagnosed().is_some_and(|d| d.improved.as_ref().is_ok_and(|c| *c == app.settings.case)));
+    app.act_on_diagnosis(ringlab::ui::diagnose_panel::DiagnoseAction::Adopt(
+        ringlab::session::DiagnosedModel::Improved,
+    ));
+    assert!(
+        app.recording
+            .diagnosed()
+            .is_some_and(|d| d.improved.as_ref().is_ok_and(|c| *c == app.settings.case))
+    );
     std::fs::remove_dir_all(&dir).ok();
     let mut harness = builder(w, h).build_ui_state(
         |ui, app: &mut RinglabApp| {
@@ -169,9 +184,18 @@ fn trace_panel_paper_ring() {
     let t = track.end().expect("ended").t_end;
     let mut harness = builder(w, h).build_ui(|ui| {
         background(ui);
-        eframe::egui::CentralPanel::default().frame(eframe::egui::Frame::new().inner_margin(8)).show(ui, |ui| {
-            trace_panel::trace_panel_ui(ui, "path of A from above: paper-ring", &track, t, true, None);
-        });
+        eframe::egui::CentralPanel::default()
+            .frame(eframe::egui::Frame::new().inner_margin(8))
+            .show(ui, |ui| {
+                trace_panel::trace_panel_ui(
+                    ui,
+                    "path of A from above: paper-ring",
+                    &track,
+                    t,
+                    true,
+                    None,
+                );
+            });
     });
     harness.run_steps(2);
     harness.snapshot_options("trace_panel_paper_ring", &options(w, h));
@@ -192,7 +216,11 @@ fn lean_painter_draws_what_egui_wgpu_draws() {
     let by_lean = ui.render(&gpu, size, 3, |u| app.ui_root(u)).expect("renders");
     let batch = ringlab::ui::lean_paint::last_batch(&ui.ctx).expect("the lean painter drew");
     assert!(batch.primitives().count() > 5, "the panels, plots and text went to the lean painter");
-    let differing = by_egui.pixels().zip(by_lean.pixels()).filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 2)).count();
+    let differing = by_egui
+        .pixels()
+        .zip(by_lean.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 2))
+        .count();
     assert!(differing <= 20, "{differing} pixels differ by more than 2 levels");
     // And it is not a blank picture that would agree with another blank one.
     let distinct: std::collections::HashSet<[u8; 4]> = by_lean.pixels().map(|p| p.0).collect();

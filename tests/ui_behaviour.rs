@@ -8,7 +8,9 @@ use egui_kittest::kittest::Queryable;
 use ringlab::ui::{Mode, RinglabApp, Settings};
 
 fn harness(app: RinglabApp) -> Harness<'static, RinglabApp> {
-    Harness::builder().with_size([1480.0, 920.0]).build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
+    Harness::builder()
+        .with_size([1480.0, 920.0])
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
 }
 
 fn fixed(settings: Settings, seconds: f64) -> RinglabApp {

@@ -21,7 +21,10 @@ fn time_unit_s() -> f64 {
 
 /// Pixels whose colour differs by more than `tol` in a channel.
 fn differing(a: &image::RgbaImage, b: &image::RgbaImage, tol: u8) -> usize {
-    a.pixels().zip(b.pixels()).filter(|(p, q)| p.0.iter().zip(q.0.iter()).any(|(x, y)| x.abs_diff(*y) > tol)).count()
+    a.pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0.iter()).any(|(x, y)| x.abs_diff(*y) > tol))
+        .count()
 }
 
 #[test]
@@ -30,8 +33,21 @@ fn a_gif_has_the_frames_asked_for_and_they_change() {
     let gif = dir.join("run.gif");
     let (from, to, fps, speed) = (10.0, 30.0, 10.0, 0.25);
     let out = ringlab(&[
-        "render", "--video", gif.to_str().unwrap(), "--from", "10", "--to", "30", "--fps", "10", "--speed", "0.25", "--width", "160",
-        "--height", "90",
+        "render",
+        "--video",
+        gif.to_str().unwrap(),
+        "--from",
+        "10",
+        "--to",
+        "30",
+        "--fps",
+        "10",
+        "--speed",
+        "0.25",
+        "--width",
+        "160",
+        "--height",
+        "90",
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     // One frame every speed / fps seconds of motion, from `from` up to `to`.
@@ -50,7 +66,17 @@ fn a_gif_has_the_frames_asked_for_and_they_change() {
     // 256 colours.
     let last_t = from + (expected - 1) as f64 * step;
     let png = dir.join("last.png");
-    let out = ringlab(&["render", "--time", &format!("{last_t}"), "--width", "160", "--height", "90", "--out", png.to_str().unwrap()]);
+    let out = ringlab(&[
+        "render",
+        "--time",
+        &format!("{last_t}"),
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let still = image::open(&png).unwrap().to_rgba8();
     let last = &frames[frames.len() - 1];
@@ -58,7 +84,19 @@ fn a_gif_has_the_frames_asked_for_and_they_change() {
     assert!(off < 160 * 90 / 50, "the last frame is the picture at t = {last_t}: {off} pixels off");
     // 25 frames/s: a delay of 4 hundredths of a second each.
     let gif25 = dir.join("d.gif");
-    let out = ringlab(&["render", "--video", gif25.to_str().unwrap(), "--from", "0", "--to", "2", "--width", "32", "--height", "18"]);
+    let out = ringlab(&[
+        "render",
+        "--video",
+        gif25.to_str().unwrap(),
+        "--from",
+        "0",
+        "--to",
+        "2",
+        "--width",
+        "32",
+        "--height",
+        "18",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let mut d = gif::DecodeOptions::new().read_info(std::fs::File::open(&gif25).unwrap()).unwrap();
     while let Some(f) = d.read_next_frame().unwrap() {
@@ -72,11 +110,32 @@ fn the_top_and_app_views_make_gifs_too() {
     let dir = out_dir("views");
     for view in ["top", "app"] {
         let gif = dir.join(format!("{view}.gif"));
-        let out = ringlab(&["render", "--video", gif.to_str().unwrap(), "--view", view, "--from", "20", "--to", "24", "--fps", "10", "--speed", "0.25", "--width", "480", "--height", "300"]);
+        let out = ringlab(&[
+            "render",
+            "--video",
+            gif.to_str().unwrap(),
+            "--view",
+            view,
+            "--from",
+            "20",
+            "--to",
+            "24",
+            "--fps",
+            "10",
+            "--speed",
+            "0.25",
+            "--width",
+            "480",
+            "--height",
+            "300",
+        ]);
         assert!(out.status.success(), "{view}: {}", String::from_utf8_lossy(&out.stderr));
         let frames = gif_frames(&gif);
         assert!(frames.len() > 5, "{view}: {} frames", frames.len());
-        assert!(differing(&frames[0], &frames[frames.len() - 1], 8) > 100, "{view}: the path grows");
+        assert!(
+            differing(&frames[0], &frames[frames.len() - 1], 8) > 100,
+            "{view}: the path grows"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -92,13 +151,39 @@ fn an_mp4_through_ffmpeg() {
     let dir = out_dir("mp4");
     let mp4 = dir.join("run.mp4");
     // An odd size: padded by a pixel for H.264's colour format.
-    let out = ringlab(&["render", "--video", mp4.to_str().unwrap(), "--from", "0", "--to", "10", "--fps", "20", "--speed", "0.5", "--width", "161", "--height", "90"]);
+    let out = ringlab(&[
+        "render",
+        "--video",
+        mp4.to_str().unwrap(),
+        "--from",
+        "0",
+        "--to",
+        "10",
+        "--fps",
+        "20",
+        "--speed",
+        "0.5",
+        "--width",
+        "161",
+        "--height",
+        "90",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let bytes = std::fs::read(&mp4).unwrap();
     assert_eq!(&bytes[4..8], b"ftyp", "an MP4 file");
     let expected = (10.0 * time_unit_s() * 20.0 / 0.5 + 1e-9).floor() as usize + 1;
     let probe = Command::new("ffprobe")
-        .args(["-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries", "stream=nb_read_frames,width,height,codec_name", "-of", "csv=p=0"])
+        .args([
+            "-v",
+            "error",
+            "-count_frames",
+            "-select_streams",
+            "v:0",
+            "-show_entries",
+            "stream=nb_read_frames,width,height,codec_name",
+            "-of",
+            "csv=p=0",
+        ])
         .arg(&mp4)
         .output()
         .expect("ffprobe comes with ffmpeg");
@@ -115,7 +200,19 @@ fn no_ffmpeg_is_a_clear_error_and_a_gif_still_works() {
     std::fs::create_dir_all(&empty).unwrap();
     let run = |name: &str| {
         Command::new(env!("CARGO_BIN_EXE_ringlab"))
-            .args(["render", "--video", dir.join(name).to_str().unwrap(), "--from", "0", "--to", "2", "--width", "32", "--height", "18"])
+            .args([
+                "render",
+                "--video",
+                dir.join(name).to_str().unwrap(),
+                "--from",
+                "0",
+                "--to",
+                "2",
+                "--width",
+                "32",
+                "--height",
+                "18",
+            ])
             .env("PATH", &empty)
             .output()
             .unwrap()
@@ -135,16 +232,40 @@ fn bad_video_flags_are_named() {
     let dir = out_dir("bad");
     let gif = dir.join("x.gif");
     let gif = gif.to_str().unwrap();
-    assert_fails_with(&["render", "--video", "x.avi", "--from", "0", "--to", "1"], &["x.avi", ".gif or .mp4"]);
+    assert_fails_with(
+        &["render", "--video", "x.avi", "--from", "0", "--to", "1"],
+        &["x.avi", ".gif or .mp4"],
+    );
     assert_fails_with(&["render", "--video", gif, "--from", "5", "--to", "1"], &["--to"]);
     assert_fails_with(&["render", "--video", gif, "--from", "-1", "--to", "1"], &["--from"]);
-    assert_fails_with(&["render", "--video", gif, "--from", "0", "--to", "1", "--fps", "0"], &["--fps"]);
-    assert_fails_with(&["render", "--video", gif, "--from", "0", "--to", "1", "--fps", "60"], &["--fps", "GIF"]);
-    assert_fails_with(&["render", "--video", gif, "--from", "0", "--to", "1", "--speed", "-2"], &["--speed"]);
-    assert_fails_with(&["render", "--video", gif, "--from", "0", "--to", "1e9", "--speed", "0.05"], &["frames"]);
+    assert_fails_with(
+        &["render", "--video", gif, "--from", "0", "--to", "1", "--fps", "0"],
+        &["--fps"],
+    );
+    assert_fails_with(
+        &["render", "--video", gif, "--from", "0", "--to", "1", "--fps", "60"],
+        &["--fps", "GIF"],
+    );
+    assert_fails_with(
+        &["render", "--video", gif, "--from", "0", "--to", "1", "--speed", "-2"],
+        &["--speed"],
+    );
+    assert_fails_with(
+        &["render", "--video", gif, "--from", "0", "--to", "1e9", "--speed", "0.05"],
+        &["frames"],
+    );
     assert_fails_with(&["render", "--video", gif, "--from", "0"], &["--to"]);
-    assert_fails_with(&["render", "--video", "/nonexistent-dir/x.gif", "--from", "0", "--to", "1"], &["does not exist"]);
-    assert_fails_with(&["render", "--time", "1", "--out", dir.join("x.png").to_str().unwrap(), "--fps", "10"], &["--fps", "video"]);
-    assert_fails_with(&["render", "--video", gif, "--time", "1", "--from", "0", "--to", "1"], &["--time"]);
+    assert_fails_with(
+        &["render", "--video", "/nonexistent-dir/x.gif", "--from", "0", "--to", "1"],
+        &["does not exist"],
+    );
+    assert_fails_with(
+        &["render", "--time", "1", "--out", dir.join("x.png").to_str().unwrap(), "--fps", "10"],
+        &["--fps", "video"],
+    );
+    assert_fails_with(
+        &["render", "--video", gif, "--time", "1", "--from", "0", "--to", "1"],
+        &["--time"],
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -5,8 +5,8 @@ use super::case_args::CaseArgs;
 use anyhow::Result;
 use clap::Args;
 use ringlab::analysis::sweep::{Axis, run_sweep};
-use ringlab::physics::integrator::{System, Tolerances};
 use ringlab::physics::effects::apply;
+use ringlab::physics::integrator::{System, Tolerances};
 use ringlab::physics::{EffectKind, Model, RunOptions, Sample, Simulation};
 use serde::Serialize;
 use std::hint::black_box;
@@ -92,7 +92,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 pub fn run(args: &BenchArgs) -> Result<()> {
     if args.recording {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
-        return pool.install(|| super::bench_recording::run(&args.sample, args.repeats.min(7), args.skip_fit, args.json));
+        return pool.install(|| {
+            super::bench_recording::run(&args.sample, args.repeats.min(7), args.skip_fit, args.json)
+        });
     }
     let case = args.case.case()?;
     let model = case.model.clone();
@@ -128,7 +130,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let (run_ms, summary) = time_runs(&bare)?;
     let (events_ms, _) = time_runs(&RunOptions { track_validity: true, ..bare.clone() })?;
-    let (samples_ms, _) = time_runs(&RunOptions { track_validity: true, sample_dt: Some(case.dt), ..bare.clone() })?;
+    let (samples_ms, _) =
+        time_runs(&RunOptions { track_validity: true, sample_dt: Some(case.dt), ..bare.clone() })?;
 
     let mut report = BenchReport {
         case: case.name.clone(),
@@ -212,8 +215,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         println!("right-hand side:                 {:.1} ns per evaluation", report.rhs_ns);
         println!(
             "run to the end (rtol {:.0e}):     {:.2} ms median of {} ({} evaluations, {} steps + {} rejected, ended {} at t = {:.4})",
-            report.rtol, report.run_to_rest_ms, args.repeats, report.run_rhs_evaluations, report.run_steps, report.run_rejected_steps,
-            report.run_end_reason, report.run_t_end
+            report.rtol,
+            report.run_to_rest_ms,
+            args.repeats,
+            report.run_rhs_evaluations,
+            report.run_steps,
+            report.run_rejected_steps,
+            report.run_end_reason,
+            report.run_t_end
         );
         println!("  + turning points and validity: {:.2} ms", report.run_to_rest_with_events_ms);
         println!("  + samples every {}:         {:.2} ms", case.dt, report.run_with_samples_ms);
@@ -229,11 +238,20 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 e.steps,
                 e.end_reason,
                 e.t_end,
-                if e.effect == "slip" { format!(", {} sliding intervals", e.sliding_intervals) } else { String::new() }
+                if e.effect == "slip" {
+                    format!(", {} sliding intervals", e.sliding_intervals)
+                } else {
+                    String::new()
+                }
             );
         }
-        if let (Some(n), Some(s), Some(r)) = (report.sweep_runs, report.sweep_seconds, report.sweep_retrograde) {
-            println!("drag sweep {n} runs (rtol 1e-8): {s:.2} s on {} threads; {r} make the retrograde turn", report.sweep_threads);
+        if let (Some(n), Some(s), Some(r)) =
+            (report.sweep_runs, report.sweep_seconds, report.sweep_retrograde)
+        {
+            println!(
+                "drag sweep {n} runs (rtol 1e-8): {s:.2} s on {} threads; {r} make the retrograde turn",
+                report.sweep_threads
+            );
         }
     }
     Ok(())

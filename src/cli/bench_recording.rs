@@ -93,7 +93,13 @@ pub fn run(sample_path: &Path, repeats: usize, skip_fit: bool, json: bool) -> Re
     );
     println!("recover the motion of {} frames: {:.0} ms", report.read_frames, report.recover_ms);
     if let Some(s) = report.fit_sample_seconds {
-        println!("fit {} ({} frames): {:.2} s on {} threads", sample_path.display(), sample.frames.len(), s, report.fit_threads);
+        println!(
+            "fit {} ({} frames): {:.2} s on {} threads",
+            sample_path.display(),
+            sample.frames.len(),
+            s,
+            report.fit_threads
+        );
     }
     Ok(())
 }

@@ -70,8 +70,15 @@ impl DetailArg {
 
 fn stats(mut v: Vec<f64>) -> Stat {
     v.sort_by(|a, b| a.total_cmp(b));
-    let q = |f: f64| v.get(((v.len() as f64 - 1.0) * f).round() as usize).copied().unwrap_or(f64::NAN);
-    Stat { n: v.len(), min_ms: q(0.0), median_ms: q(0.5), p90_ms: q(0.9), max_ms: v.last().copied().unwrap_or(f64::NAN) }
+    let q =
+        |f: f64| v.get(((v.len() as f64 - 1.0) * f).round() as usize).copied().unwrap_or(f64::NAN);
+    Stat {
+        n: v.len(),
+        min_ms: q(0.0),
+        median_ms: q(0.5),
+        p90_ms: q(0.9),
+        max_ms: v.last().copied().unwrap_or(f64::NAN),
+    }
 }
 
 #[derive(Serialize, Debug)]
@@ -120,7 +127,10 @@ fn offscreen(frames: usize) -> Result<()> {
         renderer.render(&gpu.device, &gpu.queue, &mut encoder, 0, &frame, size);
         let index = gpu.queue.submit([encoder.finish()]);
         gpu.device
-            .poll(wgpu::PollType::Wait { submission_index: Some(index), timeout: Some(Duration::from_secs(30)) })
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: Some(Duration::from_secs(30)),
+            })
             .context("waiting for the frame")?;
         let rendered = clock.elapsed().as_secs_f64() * 1e3;
         let clock = Instant::now();
@@ -196,7 +206,11 @@ fn stream() -> Result<()> {
     let wall = clock.elapsed().as_secs_f64();
     let t_end = h.track.end().map_or(0.0, |e| e.t_end);
     let samples = h.track.samples();
-    let gaps = samples[..samples.len() - 1].iter().enumerate().filter(|(k, s)| (s.t - *k as f64 * dt).abs() > 1e-9).count();
+    let gaps = samples[..samples.len() - 1]
+        .iter()
+        .enumerate()
+        .filter(|(k, s)| (s.t - *k as f64 * dt).abs() > 1e-9)
+        .count();
     let flat_out = t_end * time_s / wall;
 
     // Paced: a 60 Hz display at 20x real time, pumping what each frame needs.
@@ -325,7 +339,9 @@ impl eframe::App for WindowBench {
 impl WindowBench {
     fn report(&self) {
         let cpu_ms_per_frame = match (self.cpu_start, cpu_seconds()) {
-            (Some((c0, n0)), Some(c1)) if self.intervals.len() > n0 => Some((c1 - c0) * 1e3 / (self.intervals.len() - n0) as f64),
+            (Some((c0, n0)), Some(c1)) if self.intervals.len() > n0 => {
+                Some((c1 - c0) * 1e3 / (self.intervals.len() - n0) as f64)
+            }
             _ => None,
         };
         let software = self.software.unwrap_or(false);
@@ -354,7 +370,9 @@ fn window(seconds: f64, detail: Detail3d, egui_painter: bool) -> Result<()> {
         bail!("--seconds must be positive");
     }
     let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default().with_title("ringlab bench").with_inner_size([1480.0, 920.0]),
+        viewport: egui::ViewportBuilder::default()
+            .with_title("ringlab bench")
+            .with_inner_size([1480.0, 920.0]),
         persist_window: false,
         ..Default::default()
     };

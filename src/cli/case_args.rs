@@ -92,6 +92,8 @@ impl CaseArgs {
     pub fn case(&self) -> Result<Case> {
         let f = self.case_file()?;
         let name = f.name.clone();
-        f.build().map_err(anyhow::Error::msg).with_context(|| format!("case '{name}' with the given flags"))
+        f.build()
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("case '{name}' with the given flags"))
     }
 }

@@ -1,10 +1,12 @@
 //! `ringlab diagnose`: which physics the paper's model left out of a recording, if any.
 
 use super::diagnose_report;
+use super::progress::{LateBar, PERCENT_TEMPLATE, with_threads};
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use super::progress::{LateBar, PERCENT_TEMPLATE, with_threads};
-use ringlab::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, DiagnoseOptions, DiagnoseProgress, Finding, diagnose};
+use ringlab::analysis::diagnose::{
+    CONSISTENT_RATIO, DiagnoseOptions, DiagnoseProgress, Diagnosis, Finding, diagnose,
+};
 use ringlab::physics::EffectKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -132,7 +134,12 @@ fn finite(x: f64) -> Option<f64> {
 
 impl DiagnoseJson {
     pub fn new(d: &Diagnosis) -> DiagnoseJson {
-        let window = |w: &ringlab::analysis::diagnose::MismatchWindow| WindowJson { start_s: w.start_s, end_s: w.end_s, rms_px: w.rms_px, share: w.share };
+        let window = |w: &ringlab::analysis::diagnose::MismatchWindow| WindowJson {
+            start_s: w.start_s,
+            end_s: w.end_s,
+            rms_px: w.rms_px,
+            share: w.share,
+        };
         let fit = |f: &ringlab::analysis::diagnose::ModelFit| {
             let mut params = BTreeMap::new();
             for i in 0..3 {
@@ -151,15 +158,23 @@ impl DiagnoseJson {
                 params.insert("camera_tilt_deg".into(), finite(v));
                 params.insert("camera_tilt_deg_sigma".into(), finite(s));
             }
-            FitJson { rms_px: f.rms_px, excess_px: d.excess_px(f.rms_px), score: f.score, effect: f.effect.name(), params, end_s: f.end_s }
+            FitJson {
+                rms_px: f.rms_px,
+                excess_px: d.excess_px(f.rms_px),
+                score: f.score,
+                effect: f.effect.name(),
+                params,
+                end_s: f.end_s,
+            }
         };
         DiagnoseJson {
             left_out: d.finding.name(),
             left_out_all: d.finding.named().iter().map(|k| k.name()).collect(),
             partial: match &d.finding {
-                Finding::Unexplained { partial: Some(p) } => {
-                    Some(PartialJson { names: p.effects.iter().map(|k| k.name()).collect(), explained_share: p.share })
-                }
+                Finding::Unexplained { partial: Some(p) } => Some(PartialJson {
+                    names: p.effects.iter().map(|k| k.name()).collect(),
+                    explained_share: p.share,
+                }),
                 _ => None,
             },
             glitches: d.glitches.len(),
@@ -232,7 +247,10 @@ pub fn options(args: &DiagnoseArgs) -> Result<DiagnoseOptions> {
 
 pub fn run(args: &DiagnoseArgs) -> Result<()> {
     if !args.merge.is_empty() {
-        return super::diagnose_batch::merge(&args.merge, args.table.as_deref().context("--merge needs --table")?);
+        return super::diagnose_batch::merge(
+            &args.merge,
+            args.table.as_deref().context("--merge needs --table")?,
+        );
     }
     let opts = options(args)?;
     if args.files.len() > 1 || args.table.is_some() || args.shard.is_some() {
@@ -241,13 +259,16 @@ pub fn run(args: &DiagnoseArgs) -> Result<()> {
     let file = &args.files[0];
     let rec = super::import_args::load_one(&args.import, file)?;
     let bar = LateBar::new(PERCENT_TEMPLATE);
-    let progress = |p: &DiagnoseProgress| bar.update((p.fraction.clamp(0.0, 1.0) * 1000.0) as u64, 1000, p.message.clone());
+    let progress = |p: &DiagnoseProgress| {
+        bar.update((p.fraction.clamp(0.0, 1.0) * 1000.0) as u64, 1000, p.message.clone())
+    };
     let cancel = AtomicBool::new(false);
     let result = with_threads(args.threads, || diagnose(&rec, &opts, &progress, &cancel))?;
     bar.finish();
     let d = result.with_context(|| format!("diagnosing {}", file.display()))?;
     if let Some(dir) = &args.report {
-        diagnose_report::write(dir, file, &rec, &d).with_context(|| format!("writing the report into {}", dir.display()))?;
+        diagnose_report::write(dir, file, &rec, &d)
+            .with_context(|| format!("writing the report into {}", dir.display()))?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&DiagnoseJson::new(&d))?);
@@ -271,12 +292,22 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
         if d.glitches.len() == 1 { "" } else { "es" }
     );
     match &d.finding {
-        Finding::Named(k) => println!("left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")),
-        Finding::Unexplained { partial: Some(p) } => println!("left out: unexplained ({p} explains {:.0}% of the excess)", 100.0 * p.share),
+        Finding::Named(k) => {
+            println!("left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + "))
+        }
+        Finding::Unexplained { partial: Some(p) } => {
+            println!("left out: unexplained ({p} explains {:.0}% of the excess)", 100.0 * p.share)
+        }
         f => println!("left out: {}", f.name()),
     }
     match &d.mismatch {
-        Some(m) => println!("mismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the excess)", m.start_s, m.end_s, m.rms_px, 100.0 * m.share),
+        Some(m) => println!(
+            "mismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the excess)",
+            m.start_s,
+            m.end_s,
+            m.rms_px,
+            100.0 * m.share
+        ),
         None => println!("mismatch: none beyond the noise"),
     }
     println!(
@@ -288,12 +319,19 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
     );
     println!("candidates (BIC, lower is better; baseline 0):");
     for c in &d.candidates {
-        let strength = c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));
+        let strength =
+            c.strength.map_or(String::new(), |(v, s)| format!("  strength {v:.5} +- {s:.5}"));
         match &c.error {
             Some(e) => println!("  {:<20} failed: {e}", c.effect.name()),
             None => {
                 let stopped = c.stopped_note().map_or(String::new(), |n| format!("  ({n})"));
-                println!("  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}{stopped}", c.effect.name(), c.rms_px, c.delta_score, c.seconds)
+                println!(
+                    "  {:<20} {:>9.3} px  {:>+10.1}  ({:.1} s){strength}{stopped}",
+                    c.effect.name(),
+                    c.rms_px,
+                    c.delta_score,
+                    c.seconds
+                )
             }
         }
     }
@@ -303,12 +341,16 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
             let name = format!("{} + {}", p.first, p.second);
             match &p.error {
                 Some(e) => println!("  {name:<36} failed: {e}"),
-                None => println!("  {name:<36} {:>9.3} px  {:>+10.1}  ({:.1} s)", p.rms_px, p.delta_score, p.seconds),
+                None => println!(
+                    "  {name:<36} {:>9.3} px  {:>+10.1}  ({:.1} s)",
+                    p.rms_px, p.delta_score, p.seconds
+                ),
             }
         }
     }
     println!();
     println!("{}", d.explanation);
-    let stages: Vec<String> = d.stage_seconds.iter().map(|(n, s)| format!("{n} {s:.1} s")).collect();
+    let stages: Vec<String> =
+        d.stage_seconds.iter().map(|(n, s)| format!("{n} {s:.1} s")).collect();
     println!("{:.1} s ({})", d.compute_seconds, stages.join(", "));
 }

@@ -77,7 +77,8 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
     let mine = Shard::pick(shard, &files);
     let mut table = match &args.table {
         Some(p) => {
-            let mut w = csv::Writer::from_path(p).with_context(|| format!("cannot create {}", p.display()))?;
+            let mut w = csv::Writer::from_path(p)
+                .with_context(|| format!("cannot create {}", p.display()))?;
             w.write_record(COLUMNS)?;
             w.flush()?;
             Some(w)
@@ -90,10 +91,16 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
     let bar = LateBar::new(COUNT_TEMPLATE);
     let mut failed = 0usize;
     for (i, file) in mine.iter().enumerate() {
-        let name = file.file_name().map_or(file.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let name = file
+            .file_name()
+            .map_or(file.display().to_string(), |n| n.to_string_lossy().into_owned());
         let clock = Instant::now();
         let outcome = diagnose_file(args, opts, file, &|fraction| {
-            bar.update((1000.0 * (i as f64 + fraction.clamp(0.0, 1.0))) as u64, 1000 * mine.len() as u64, name.clone())
+            bar.update(
+                (1000.0 * (i as f64 + fraction.clamp(0.0, 1.0))) as u64,
+                1000 * mine.len() as u64,
+                name.clone(),
+            )
         });
         let seconds = clock.elapsed().as_secs_f64();
         let (cells, json, error) = match &outcome {
@@ -109,14 +116,18 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
             w.flush()?;
         }
         if args.json {
-            let line = FileJson { file: file.display().to_string(), diagnosis: json.as_ref(), error };
+            let line =
+                FileJson { file: file.display().to_string(), diagnosis: json.as_ref(), error };
             bar.println(&serde_json::to_string(&line)?);
         } else {
             let said = match &outcome {
                 Ok(d) => {
                     let name = if cells[2].is_empty() { &cells[1] } else { &cells[2] };
                     let (before, after, noise) = (d.before.rms_px, d.after.rms_px, d.noise_px);
-                    format!("{name} ({before:.3} -> {after:.3} px, noise {noise:.3} px, {} glitches)", d.glitches.len())
+                    format!(
+                        "{name} ({before:.3} -> {after:.3} px, noise {noise:.3} px, {} glitches)",
+                        d.glitches.len()
+                    )
                 }
                 Err(e) => format!("error: {e:#}"),
             };
@@ -131,25 +142,36 @@ pub fn run(args: &DiagnoseArgs, opts: &DiagnoseOptions) -> Result<()> {
         eprintln!("{} rows written to {}", mine.len(), p.display());
     }
     if failed > 0 {
-        bail!("{failed} of {} files could not be diagnosed (the error column says why)", mine.len());
+        bail!(
+            "{failed} of {} files could not be diagnosed (the error column says why)",
+            mine.len()
+        );
     }
     Ok(())
 }
 
 /// One file read and diagnosed; `progress` gets the fraction done.
-fn diagnose_file(args: &DiagnoseArgs, opts: &DiagnoseOptions, file: &Path, progress: &(dyn Fn(f64) + Sync)) -> Result<Diagnosis> {
+fn diagnose_file(
+    args: &DiagnoseArgs,
+    opts: &DiagnoseOptions,
+    file: &Path,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Result<Diagnosis> {
     let imported = args.import.load(&[file.to_path_buf()])?;
     for line in super::import_args::describe(&imported) {
         eprintln!("{line}");
     }
     let rec = imported.recording;
     let cancel = AtomicBool::new(false);
-    let d = with_threads(args.threads, || diagnose(&rec, opts, &|p| progress(p.fraction), &cancel))?
-        .with_context(|| format!("diagnosing {}", file.display()))?;
+    let d =
+        with_threads(args.threads, || diagnose(&rec, opts, &|p| progress(p.fraction), &cancel))?
+            .with_context(|| format!("diagnosing {}", file.display()))?;
     if let Some(dir) = &args.report {
-        let stem = file.file_stem().map_or("recording".into(), |s| s.to_string_lossy().into_owned());
+        let stem =
+            file.file_stem().map_or("recording".into(), |s| s.to_string_lossy().into_owned());
         let sub = dir.join(stem);
-        super::diagnose_report::write(&sub, file, &rec, &d).with_context(|| format!("writing the report into {}", sub.display()))?;
+        super::diagnose_report::write(&sub, file, &rec, &d)
+            .with_context(|| format!("writing the report into {}", sub.display()))?;
     }
     Ok(d)
 }
@@ -158,7 +180,11 @@ fn diagnose_file(args: &DiagnoseArgs, opts: &DiagnoseOptions, file: &Path, progr
 pub fn merge(tables: &[PathBuf], out: &Path) -> Result<()> {
     let (header, rows) = read_tables(tables)?;
     if header != COLUMNS {
-        bail!("{}: not a table of `ringlab diagnose --table` (its columns are {})", tables[0].display(), header.join(","));
+        bail!(
+            "{}: not a table of `ringlab diagnose --table` (its columns are {})",
+            tables[0].display(),
+            header.join(",")
+        );
     }
     let mut sorted: Vec<_> = rows.iter().collect();
     sorted.sort_by(|a, b| a.cells[0].cmp(&b.cells[0]));
@@ -176,6 +202,11 @@ pub fn merge(tables: &[PathBuf], out: &Path) -> Result<()> {
     }
     write_table(out, &header, &sorted)?;
     let errors = sorted.iter().filter(|r| r.cells.get(1).is_some_and(|c| c == "error")).count();
-    println!("{} rows from {} tables written to {} ({errors} with errors)", sorted.len(), tables.len(), out.display());
+    println!(
+        "{} rows from {} tables written to {} ({errors} with errors)",
+        sorted.len(),
+        tables.len(),
+        out.display()
+    );
     Ok(())
 }

@@ -127,10 +127,23 @@ fn table(rows: &[Row]) -> String {
         let mut secs: Vec<f64> = r.iter().map(|r| r.seconds).collect();
         let max_s = secs.iter().copied().fold(0.0, f64::max);
         let share = 100.0 * ok as f64 / r.len() as f64;
-        let rate = if r[0].expected == "none" { format!("{ok}/{} (false alarms {:.0}%)", r.len(), 100.0 - share) } else { format!("{ok}/{} ({share:.0}%)", r.len()) };
-        let improvement =
-            if named.is_empty() { "-".to_string() } else { format!("{:.2} -> {:.3} px", median(&mut before), median(&mut after)) };
-        let smallest = if named.is_empty() { "-".to_string() } else if smallest > 999.0 { ">999x".to_string() } else { format!("{smallest:.1}x") };
+        let rate = if r[0].expected == "none" {
+            format!("{ok}/{} (false alarms {:.0}%)", r.len(), 100.0 - share)
+        } else {
+            format!("{ok}/{} ({share:.0}%)", r.len())
+        };
+        let improvement = if named.is_empty() {
+            "-".to_string()
+        } else {
+            format!("{:.2} -> {:.3} px", median(&mut before), median(&mut after))
+        };
+        let smallest = if named.is_empty() {
+            "-".to_string()
+        } else if smallest > 999.0 {
+            ">999x".to_string()
+        } else {
+            format!("{smallest:.1}x")
+        };
         out.push_str(&format!(
             "| {f} | {} | {} | {rate} | {} | {improvement} | {smallest} | {:.1} / {:.1} s |\n",
             r[0].expected,
@@ -152,7 +165,8 @@ fn table(rows: &[Row]) -> String {
     out
 }
 
-const CSV_HEADER: &str = "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames";
+const CSV_HEADER: &str =
+    "family,seed,expected,said,before_rms_px,after_rms_px,noise_px,glitches,seconds,frames";
 
 /// A row's `said` or `expected` field: effect names joined by `+`, `none`, `unexplained`.
 fn finding_field(s: &str) -> bool {
@@ -161,11 +175,15 @@ fn finding_field(s: &str) -> bool {
 
 /// The rows of a CSV file that `--out` wrote (every one of its lines checked).
 fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let mut lines = text.lines().enumerate();
     match lines.next() {
         Some((_, h)) if h.trim() == CSV_HEADER => {}
-        _ => bail!("{}:1: not a diagnose-bench table (its first line must be '{CSV_HEADER}')", path.display()),
+        _ => bail!(
+            "{}:1: not a diagnose-bench table (its first line must be '{CSV_HEADER}')",
+            path.display()
+        ),
     }
     let mut rows = Vec::new();
     for (i, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
@@ -183,12 +201,19 @@ fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
             }
         }
         let num = |k: usize, what: &str| -> Result<f64> {
-            f[k].parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| anyhow::anyhow!("{at}: {what} '{}' is not a number", f[k]))
+            f[k].parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| anyhow::anyhow!("{at}: {what} '{}' is not a number", f[k]))
         };
-        let count = |k: usize, what: &str| -> Result<usize> { f[k].parse().map_err(|_| anyhow::anyhow!("{at}: {what} '{}' is not a count", f[k])) };
+        let count = |k: usize, what: &str| -> Result<usize> {
+            f[k].parse().map_err(|_| anyhow::anyhow!("{at}: {what} '{}' is not a count", f[k]))
+        };
         rows.push(Row {
             family: f[0].to_string(),
-            seed: f[1].parse().map_err(|_| anyhow::anyhow!("{at}: seed '{}' is not a whole number", f[1]))?,
+            seed: f[1]
+                .parse()
+                .map_err(|_| anyhow::anyhow!("{at}: seed '{}' is not a whole number", f[1]))?,
             expected: f[2].to_string(),
             said: f[3].to_string(),
             before: num(4, "before_rms_px")?,
@@ -217,9 +242,13 @@ fn marker_line(text: &str, marker: &str) -> Option<usize> {
 
 /// Replaces the table between the markers of `readme` (a Markdown file: `docs/diagnosis.md`).
 fn write_readme(readme: &std::path::Path, t: &str) -> Result<()> {
-    let text = std::fs::read_to_string(readme).with_context(|| format!("reading {}", readme.display()))?;
+    let text =
+        std::fs::read_to_string(readme).with_context(|| format!("reading {}", readme.display()))?;
     let (Some(a), Some(b)) = (marker_line(&text, BEGIN), marker_line(&text, END)) else {
-        bail!("{} has no '{BEGIN}' ... '{END}' markers, each on a line of its own", readme.display());
+        bail!(
+            "{} has no '{BEGIN}' ... '{END}' markers, each on a line of its own",
+            readme.display()
+        );
     };
     if b < a {
         bail!("{}: the diagnose-bench markers are out of order", readme.display());
@@ -261,7 +290,12 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
         for p in &args.from_csv {
             for r in read_rows(p)? {
                 if rows.iter().any(|o| o.family == r.family && o.seed == r.seed) {
-                    bail!("{}: {} seed {} is in the table twice (a recording counts once)", p.display(), r.family, r.seed);
+                    bail!(
+                        "{}: {} seed {} is in the table twice (a recording counts once)",
+                        p.display(),
+                        r.family,
+                        r.seed
+                    );
                 }
                 rows.push(r);
             }
@@ -271,7 +305,14 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
             rows.retain(|r| names.contains(&r.family));
         }
         if rows.is_empty() {
-            bail!("no rows of the families asked for in {}", args.from_csv.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+            bail!(
+                "no rows of the families asked for in {}",
+                args.from_csv
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
         }
         let t = table(&rows);
         println!("{t}");
@@ -282,7 +323,8 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     }
     let mut csv = match &args.out {
         Some(p) => {
-            let mut f = std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
+            let mut f =
+                std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
             writeln!(f, "{CSV_HEADER}")?;
             Some(f)
         }
@@ -295,8 +337,11 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
     let mut rows = Vec::new();
     for family in &families {
         for seed in args.first_seed..args.first_seed + args.seeds {
-            let rec = family_recording(*family, seed).map_err(anyhow::Error::msg).with_context(|| format!("{} seed {seed}", family.name()))?;
-            let opts = DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
+            let rec = family_recording(*family, seed)
+                .map_err(anyhow::Error::msg)
+                .with_context(|| format!("{} seed {seed}", family.name()))?;
+            let opts =
+                DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
             let d = match diagnose(&rec, &opts, &|_| {}, &cancel) {
                 Ok(d) => d,
                 Err(e) => {
@@ -330,14 +375,32 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
             );
             if let Some(f) = csv.as_mut() {
                 let r = &row;
-                writeln!(f, "{},{},{},{},{},{},{},{},{},{}", r.family, r.seed, r.expected, r.said, r.before, r.after, r.noise, r.glitches, r.seconds, r.frames)?;
+                writeln!(
+                    f,
+                    "{},{},{},{},{},{},{},{},{},{}",
+                    r.family,
+                    r.seed,
+                    r.expected,
+                    r.said,
+                    r.before,
+                    r.after,
+                    r.noise,
+                    r.glitches,
+                    r.seconds,
+                    r.frames
+                )?;
                 f.flush()?;
             }
             if !row.right()
                 && let Some(dir) = &args.keep_wrong
             {
-                let p = dir.join(format!("{}-seed{}.csv", family.name().replace([':', '+'], "-"), seed));
-                let mut f = std::fs::File::create(&p).with_context(|| format!("creating {}", p.display()))?;
+                let p = dir.join(format!(
+                    "{}-seed{}.csv",
+                    family.name().replace([':', '+'], "-"),
+                    seed
+                ));
+                let mut f = std::fs::File::create(&p)
+                    .with_context(|| format!("creating {}", p.display()))?;
                 ringlab::recording::write_recording(&mut f, &rec)?;
             }
             rows.push(row);

@@ -49,7 +49,8 @@ fn trace(d: &Diagnosis) -> Canvas {
     let x = Axis::linear(cx - 0.5 * span * aspect, cx + 0.5 * span * aspect);
     // Image y grows downward: plot -y so the picture is the camera's.
     let y = Axis::linear(-(cy + 0.5 * span), -(cy - 0.5 * span));
-    let mut c = Chart::new(w, h, "Point A: recording and models (image pixels)", "x (px)", "-y (px)", x, y);
+    let mut c =
+        Chart::new(w, h, "Point A: recording and models (image pixels)", "x (px)", "-y (px)", x, y);
     let data: Vec<(f64, f64)> = t.data_px.iter().flatten().map(|p| (p[0], -p[1])).collect();
     c.dots(&data, DATA, 1.6, 0.55);
     let line = |v: &[[f64; 2]]| -> Vec<(f64, f64)> { v.iter().map(|p| (p[0], -p[1])).collect() };
@@ -73,7 +74,14 @@ fn trace(d: &Diagnosis) -> Canvas {
 fn residual(d: &Diagnosis) -> Canvas {
     let r = &d.residuals;
     let (t0, t1) = (r.t_s.first().copied().unwrap_or(0.0), r.t_s.last().copied().unwrap_or(1.0));
-    let top = r.window_before_px.iter().chain(&r.window_followed_px).chain(&r.after_px).copied().filter(|v| v.is_finite()).fold(0.0, f64::max);
+    let top = r
+        .window_before_px
+        .iter()
+        .chain(&r.window_followed_px)
+        .chain(&r.after_px)
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
     let y = Axis::log(0.1, (top * 1.5).max(3.0));
     let improved = !d.finding.named().is_empty();
     let title = format!(
@@ -82,16 +90,26 @@ fn residual(d: &Diagnosis) -> Canvas {
         if improved { "improved" } else { "nothing better:" },
         d.after.rms_px
     );
-    let mut c = Chart::new(1000, 540, &title, "time (s)", "model - recording (px rms)", Axis::linear(t0, t1), y);
+    let mut c = Chart::new(
+        1000,
+        540,
+        &title,
+        "time (s)",
+        "model - recording (px rms)",
+        Axis::linear(t0, t1),
+        y,
+    );
     if let Some(m) = &d.mismatch {
         c.band(m.start_s, m.end_s, SHADE, 0.22);
     }
     for w in &d.windows {
         c.band(w.start_s, w.end_s, SHADE, 0.3);
     }
-    let per_frame = |v: &[f64]| -> Vec<(f64, f64)> { r.t_s.iter().zip(v).map(|(t, v)| (*t, *v)).collect() };
+    let per_frame =
+        |v: &[f64]| -> Vec<(f64, f64)> { r.t_s.iter().zip(v).map(|(t, v)| (*t, *v)).collect() };
     let mids: Vec<f64> = r.window_s.iter().map(|(a, b)| 0.5 * (a + b)).collect();
-    let windowed = |v: &[f64]| -> Vec<(f64, f64)> { mids.iter().zip(v).map(|(t, v)| (*t, *v)).collect() };
+    let windowed =
+        |v: &[f64]| -> Vec<(f64, f64)> { mids.iter().zip(v).map(|(t, v)| (*t, *v)).collect() };
     c.dots(&per_frame(&r.before_px), BEFORE, 1.0, 0.2);
     c.line(&windowed(&r.window_threshold_px), NOISE, 1.2);
     c.dashed_hline(d.noise_px, NOISE);
@@ -104,7 +122,10 @@ fn residual(d: &Diagnosis) -> Canvas {
         c.line(&windowed(&r.window_after_px), AFTER, 2.0);
     }
     let ms = (1000.0 * r.window_s.first().map_or(0.0, |w| w.1 - w.0)).round();
-    c.add_legend(&format!("{}, fitted to the whole run ({ms} ms windows; dots: frames)", label(&d.before)), BEFORE);
+    c.add_legend(
+        &format!("{}, fitted to the whole run ({ms} ms windows; dots: frames)", label(&d.before)),
+        BEFORE,
+    );
     if improved {
         c.add_legend(&format!("{}, fitted to the whole run", label(&d.after)), AFTER);
     }
@@ -123,7 +144,8 @@ fn symlog(v: f64) -> f64 {
 
 /// The candidates: BIC against the baseline (bars, signed log scale), with each one's misfit.
 fn candidates(d: &Diagnosis) -> Canvas {
-    let rows: Vec<_> = d.candidates.iter().filter(|c| c.error.is_none() && c.delta_score.is_finite()).collect();
+    let rows: Vec<_> =
+        d.candidates.iter().filter(|c| c.error.is_none() && c.delta_score.is_finite()).collect();
     let (w, h) = (1000usize, 140 + 46 * rows.len().max(1));
     let lo = rows.iter().map(|c| symlog(c.delta_score)).fold(-1.0f64, f64::min);
     let hi = rows.iter().map(|c| symlog(c.delta_score)).fold(1.0f64, f64::max);
@@ -143,15 +165,31 @@ fn candidates(d: &Diagnosis) -> Canvas {
     }
     for (i, c) in rows.iter().enumerate() {
         let y = top + 46.0 * i as f64;
-        let color = if d.finding.named().contains(&c.effect) { AFTER } else if c.effect == EffectKind::None { BEFORE } else { [150, 150, 150] };
+        let color = if d.finding.named().contains(&c.effect) {
+            AFTER
+        } else if c.effect == EffectKind::None {
+            BEFORE
+        } else {
+            [150, 150, 150]
+        };
         let end = px(c.delta_score);
-        canvas.fill_rect(zero.min(end), y, zero.max(end).max(zero.min(end) + 2.0), y + 26.0, color, 1.0);
+        canvas.fill_rect(
+            zero.min(end),
+            y,
+            zero.max(end).max(zero.min(end) + 2.0),
+            y + 26.0,
+            color,
+            1.0,
+        );
         let name = c.effect.name();
         canvas.text(x0 - 16.0 - Canvas::text_width(name, 2) as f64, y + 4.0, name, 2, BLACK);
         let note = format!("{:+.1}  ({} px)", c.delta_score, sig(c.rms_px));
         canvas.text(x1 + 16.0, y + 8.0, &note, 1, BLACK);
     }
-    let foot = format!("dashed: the {:.0} below the baseline an effect needs to be named; blue: the one named", d.evidence);
+    let foot = format!(
+        "dashed: the {:.0} below the baseline an effect needs to be named; blue: the one named",
+        d.evidence
+    );
     canvas.text(x0, h as f64 - 28.0, &foot, 1, BLACK);
     canvas
 }
@@ -159,7 +197,9 @@ fn candidates(d: &Diagnosis) -> Canvas {
 /// Writes the figures and report.md into `dir` (created if needed).
 pub fn write(dir: &Path, file: &Path, rec: &Recording, d: &Diagnosis) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    for (name, canvas) in [(TRACE_PNG, trace(d)), (RESIDUAL_PNG, residual(d)), (CANDIDATES_PNG, candidates(d))] {
+    for (name, canvas) in
+        [(TRACE_PNG, trace(d)), (RESIDUAL_PNG, residual(d)), (CANDIDATES_PNG, candidates(d))]
+    {
         let p = dir.join(name);
         canvas.save(&p).with_context(|| format!("writing {}", p.display()))?;
     }
@@ -170,9 +210,20 @@ pub fn write(dir: &Path, file: &Path, rec: &Recording, d: &Diagnosis) -> Result<
 }
 
 fn params(f: &ModelFit) -> String {
-    let pm = |v: f64, s: f64| if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { sig(v) };
-    let mut s = format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]));
-    let _ = write!(s, "; R = {} mm, h = {} mm", pm(f.body_mm[0].0, f.body_mm[0].1), pm(f.body_mm[1].0, f.body_mm[1].1));
+    let pm =
+        |v: f64, s: f64| if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { sig(v) };
+    let mut s = format!(
+        "C1 = {}, C2 = {}, C3 = {}",
+        pm(f.c[0], f.c_sigma[0]),
+        pm(f.c[1], f.c_sigma[1]),
+        pm(f.c[2], f.c_sigma[2])
+    );
+    let _ = write!(
+        s,
+        "; R = {} mm, h = {} mm",
+        pm(f.body_mm[0].0, f.body_mm[0].1),
+        pm(f.body_mm[1].0, f.body_mm[1].1)
+    );
     if let Some((v, sd)) = f.strength {
         let _ = write!(s, "; {} ({}) = {}", f.effect, f.effect.parameter(), pm(v, sd));
     }
@@ -181,7 +232,9 @@ fn params(f: &ModelFit) -> String {
 
 fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
     let mut m = String::new();
-    let name = file.file_name().map_or_else(|| file.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let name = file
+        .file_name()
+        .map_or_else(|| file.display().to_string(), |n| n.to_string_lossy().into_owned());
     let _ = writeln!(m, "# Diagnosis of {name}\n");
     let _ = writeln!(
         m,
@@ -203,24 +256,55 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
             }
         }
         Finding::Nothing => {
-            let _ = writeln!(m, "**Left out: none** (the baseline is consistent with the noise).\n");
+            let _ =
+                writeln!(m, "**Left out: none** (the baseline is consistent with the noise).\n");
         }
         Finding::Unexplained { partial } => {
-            let part = partial.as_ref().map_or(String::new(), |p| format!("; {p} explains {:.0}% of the excess, partially", 100.0 * p.share));
-            let _ = writeln!(m, "**Left out: unexplained** (the baseline misses beyond the noise and no candidate explains most of it{part}).\n");
+            let part = partial.as_ref().map_or(String::new(), |p| {
+                format!("; {p} explains {:.0}% of the excess, partially", 100.0 * p.share)
+            });
+            let _ = writeln!(
+                m,
+                "**Left out: unexplained** (the baseline misses beyond the noise and no candidate explains most of it{part}).\n"
+            );
         }
     }
     if !d.glitches.is_empty() {
-        let _ = writeln!(m, "Tracker glitches left out of every fit: {} mark positions.\n", d.glitches.len());
+        let _ = writeln!(
+            m,
+            "Tracker glitches left out of every fit: {} mark positions.\n",
+            d.glitches.len()
+        );
     }
     let _ = writeln!(m, "| | misfit over the whole run | fitted |");
     let _ = writeln!(m, "|---|---|---|");
     let excess = |f: &ModelFit| d.excess_px(f.rms_px);
-    let _ = writeln!(m, "| before: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |", label(&d.before), d.before.rms_px, excess(&d.before), params(&d.before));
-    let _ = writeln!(m, "| after: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |", label(&d.after), d.after.rms_px, excess(&d.after), params(&d.after));
+    let _ = writeln!(
+        m,
+        "| before: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |",
+        label(&d.before),
+        d.before.rms_px,
+        excess(&d.before),
+        params(&d.before)
+    );
+    let _ = writeln!(
+        m,
+        "| after: {} | {:.3} px rms ({:.3} px beyond the noise) | {} |",
+        label(&d.after),
+        d.after.rms_px,
+        excess(&d.after),
+        params(&d.after)
+    );
     match &d.mismatch {
         Some(w) => {
-            let _ = writeln!(m, "\nMismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the baseline's misfit beyond the noise).", w.start_s, w.end_s, w.rms_px, 100.0 * w.share);
+            let _ = writeln!(
+                m,
+                "\nMismatch: {:.3} s to {:.3} s ({:.2} px rms, {:.0}% of the baseline's misfit beyond the noise).",
+                w.start_s,
+                w.end_s,
+                w.rms_px,
+                100.0 * w.share
+            );
         }
         None => {
             let _ = writeln!(m, "\nMismatch: none beyond the noise.");
@@ -234,14 +318,23 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
     let _ = writeln!(m, "| rank | candidate | misfit (px rms) | BIC - baseline | strength |");
     let _ = writeln!(m, "|---|---|---|---|---|");
     for (i, c) in d.candidates.iter().enumerate() {
-        let strength = c.strength.map_or("-".to_string(), |(v, s)| if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { sig(v) });
+        let strength = c.strength.map_or("-".to_string(), |(v, s)| {
+            if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { sig(v) }
+        });
         match &c.error {
             Some(e) => {
                 let _ = writeln!(m, "| {} | {} | failed: {e} | | |", i + 1, c.effect);
             }
             None => {
                 let stopped = c.stopped_note().map_or(String::new(), |n| format!(" ({n})"));
-                let _ = writeln!(m, "| {} | {} | {:.3}{stopped} | {:+.1} | {strength} |", i + 1, c.effect, c.rms_px, c.delta_score);
+                let _ = writeln!(
+                    m,
+                    "| {} | {} | {:.3}{stopped} | {:+.1} | {strength} |",
+                    i + 1,
+                    c.effect,
+                    c.rms_px,
+                    c.delta_score
+                );
             }
         }
     }

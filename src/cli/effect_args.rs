@@ -32,7 +32,8 @@ impl EffectArgs {
             .effect
             .iter()
             .map(|name| {
-                EffectKind::from_name(name).with_context(|| format!("--effect '{name}' is not one of {}", known_names()))
+                EffectKind::from_name(name)
+                    .with_context(|| format!("--effect '{name}' is not one of {}", known_names()))
             })
             .collect::<Result<Vec<_>>>()?;
         if kinds == [EffectKind::None] && self.effect_strength.is_empty() {
@@ -74,11 +75,14 @@ impl EffectArgs {
         let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
         for &(kind, x) in &effects {
             if kind.is_camera() {
-                bail!("--effect {kind} changes the camera, not the motion: give it to `ringlab synth`");
+                bail!(
+                    "--effect {kind} changes the camera, not the motion: give it to `ringlab synth`"
+                );
             }
             let mut e = case.model.effects;
-            apply(kind, x, case.model.body.r, start.reynolds, &mut e)
-                .with_context(|| format!("--effect-strength {x} for {kind} ({})", kind.parameter()))?;
+            apply(kind, x, case.model.body.r, start.reynolds, &mut e).with_context(|| {
+                format!("--effect-strength {x} for {kind} ({})", kind.parameter())
+            })?;
             let mut model = case.model.clone();
             model.effects = e;
             if let Err(err) = model.check_effects() {

@@ -113,7 +113,11 @@ impl FitReport {
             residuals: r.residual_count,
             parameters: r.parameter_count,
             coarse_c: r.coarse_c,
-            effect: r.effect.map(|(k, s, sd)| EffectReport { name: k.name(), strength: s, sigma: finite(sd) }),
+            effect: r.effect.map(|(k, s, sd)| EffectReport {
+                name: k.name(),
+                strength: s,
+                sigma: finite(sd),
+            }),
         }
     }
 }
@@ -125,7 +129,8 @@ fn parse_c(s: &str) -> Result<[f64; 3]> {
     }
     let mut c = [0.0; 3];
     for (slot, p) in c.iter_mut().zip(parts) {
-        let v: f64 = p.trim().parse().with_context(|| format!("--c-start '{s}': '{p}' is not a number"))?;
+        let v: f64 =
+            p.trim().parse().with_context(|| format!("--c-start '{s}': '{p}' is not a number"))?;
         if !(v.is_finite() && v > 0.0) {
             bail!("--c-start '{s}': every coefficient must be a positive number");
         }
@@ -169,7 +174,8 @@ pub fn run(args: &FitArgs) -> Result<()> {
         bar.update(p.done as u64, p.total as u64, msg);
     };
     let cancel = AtomicBool::new(false);
-    let result = super::progress::with_threads(args.threads, || fit(&rec, &opts, &progress, &cancel))?;
+    let result =
+        super::progress::with_threads(args.threads, || fit(&rec, &opts, &progress, &cancel))?;
     bar.finish();
     let r = result.with_context(|| format!("fitting {}", args.file.display()))?;
     let report = FitReport::new(&r);
@@ -177,7 +183,9 @@ pub fn run(args: &FitArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    let pm = |x: f64, s: f64| if s.is_finite() { format!("{x:.5} +- {s:.5}") } else { format!("{x:.5} (unconstrained)") };
+    let pm = |x: f64, s: f64| {
+        if s.is_finite() { format!("{x:.5} +- {s:.5}") } else { format!("{x:.5} (unconstrained)") }
+    };
     println!(
         "{}: {} frames, {} fitted from the first inner turning point at frame {:.2} ({:.4} s)",
         args.file.display(),
@@ -186,13 +194,24 @@ pub fn run(args: &FitArgs) -> Result<()> {
         r.start_frame,
         report.start_time_s
     );
-    println!("drag  C1 = {}, C2 = {}, C3 = {}", pm(r.c[0], r.c_sigma[0]), pm(r.c[1], r.c_sigma[1]), pm(r.c[2], r.c_sigma[2]));
+    println!(
+        "drag  C1 = {}, C2 = {}, C3 = {}",
+        pm(r.c[0], r.c_sigma[0]),
+        pm(r.c[1], r.c_sigma[1]),
+        pm(r.c[2], r.c_sigma[2])
+    );
     if let Some((k, s, sd)) = r.effect {
         println!("effect {k} = {}  ({})", pm(s, sd), k.parameter());
     }
     println!(
         "start (first inner turning point, model units: length {:.4} mm, time {:.6} s): theta0 = {:.5}, phidot0 = {:.5}, psidot0 = {:.5}, thetadot0 = {:.2e}, phi0 = {:.4}",
-        r.units.length_mm, r.units.time_s, r.start.theta, r.start.phi_dot, r.start.psi_dot, r.start.theta_dot, report.phi0
+        r.units.length_mm,
+        r.units.time_s,
+        r.start.theta,
+        r.start.phi_dot,
+        r.start.psi_dot,
+        r.start.theta_dot,
+        report.phi0
     );
     println!(
         "misfit {:.4} px rms over {} mark coordinates ({} segments of {} frames, {} parameters); pixel noise in the data {}",

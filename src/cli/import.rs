@@ -25,8 +25,10 @@ pub fn run(args: &ImportCmdArgs) -> Result<()> {
     let mut bytes = Vec::new();
     write_recording(&mut bytes, &imported.recording)?;
     // Read back what was written: the file on disk is what every command will see.
-    ringlab::recording::parse_recording(&bytes, &args.out).context("the written recording does not read back")?;
-    let mut f = std::fs::File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    ringlab::recording::parse_recording(&bytes, &args.out)
+        .context("the written recording does not read back")?;
+    let mut f = std::fs::File::create(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
     f.write_all(&bytes).with_context(|| format!("cannot write {}", args.out.display()))?;
     for line in describe(&imported) {
         println!("{line}");

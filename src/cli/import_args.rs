@@ -64,7 +64,10 @@ impl ImportArgs {
     pub fn format(&self) -> Result<Option<Format>> {
         self.from
             .as_deref()
-            .map(|f| Format::parse(f).with_context(|| format!("--from '{f}': not one of {}", Format::NAMES)))
+            .map(|f| {
+                Format::parse(f)
+                    .with_context(|| format!("--from '{f}': not one of {}", Format::NAMES))
+            })
             .transpose()
     }
 
@@ -73,12 +76,16 @@ impl ImportArgs {
         if let Some(name) = &self.preset {
             return Ok(Some(BodyMm::of_case(&load_preset(name)?).map_err(anyhow::Error::msg)?));
         }
-        let any = self.shape.is_some() || self.outer_radius_mm.is_some() || self.width_mm.is_some() || self.thickness_mm.is_some();
+        let any = self.shape.is_some()
+            || self.outer_radius_mm.is_some()
+            || self.width_mm.is_some()
+            || self.thickness_mm.is_some();
         if !any {
             return Ok(None);
         }
         let shape = self.shape.as_deref().context("the body needs --shape ring|disk")?;
-        let shape = Shape::parse(shape).with_context(|| format!("--shape '{shape}': not ring or disk"))?;
+        let shape =
+            Shape::parse(shape).with_context(|| format!("--shape '{shape}': not ring or disk"))?;
         let r = self.outer_radius_mm.context("the body needs --outer-radius-mm")?;
         let h = self.width_mm.context("the body needs --width-mm")?;
         if shape == Shape::Ring && self.thickness_mm.is_none() {
@@ -90,7 +97,9 @@ impl ImportArgs {
     pub fn options(&self) -> Result<ImportOptions> {
         let positive = |v: Option<f64>, flag: &str| -> Result<Option<f64>> {
             match v {
-                Some(x) if !(x.is_finite() && x > 0.0) => bail!("{flag} = {x}: must be a positive number"),
+                Some(x) if !(x.is_finite() && x > 0.0) => {
+                    bail!("{flag} = {x}: must be a positive number")
+                }
                 v => Ok(v),
             }
         };
@@ -104,7 +113,10 @@ impl ImportArgs {
             unit: self
                 .unit
                 .as_deref()
-                .map(|u| LengthUnit::parse(u).with_context(|| format!("--unit '{u}': not one of {}", LengthUnit::NAMES)))
+                .map(|u| {
+                    LengthUnit::parse(u)
+                        .with_context(|| format!("--unit '{u}': not one of {}", LengthUnit::NAMES))
+                })
                 .transpose()?,
             y_up: self.y_up,
         })
@@ -138,7 +150,10 @@ pub fn describe(imported: &Imported) -> Vec<String> {
 }
 
 /// One recording from one file, what the import did said on stderr (stdout may be JSON).
-pub fn load_one(args: &ImportArgs, file: &std::path::Path) -> Result<ringlab::recording::Recording> {
+pub fn load_one(
+    args: &ImportArgs,
+    file: &std::path::Path,
+) -> Result<ringlab::recording::Recording> {
     let imported = args.load(&[file.to_path_buf()])?;
     for line in describe(&imported) {
         eprintln!("{line}");

@@ -21,13 +21,19 @@ pub const PERCENT_TEMPLATE: &str = "{spinner} [{bar:30}] {percent:>3}% {elapsed}
 impl LateBar {
     pub fn new(template: &str) -> LateBar {
         let bar = ProgressBar::hidden();
-        bar.set_style(ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()).progress_chars("=> "));
+        bar.set_style(
+            ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
         LateBar { bar, started: Instant::now(), shown: AtomicBool::new(false) }
     }
 
     /// Moves the bar (never backwards) and sets its message.
     pub fn update(&self, position: u64, length: u64, message: String) {
-        if self.started.elapsed() > Duration::from_millis(300) && !self.shown.swap(true, Ordering::Relaxed) {
+        if self.started.elapsed() > Duration::from_millis(300)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());
             self.bar.enable_steady_tick(Duration::from_millis(120));
         }

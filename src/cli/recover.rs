@@ -49,7 +49,8 @@ struct RecoverReport {
 
 pub fn run(args: &RecoverArgs) -> Result<()> {
     let rec = super::import_args::load_one(&args.import, &args.file)?;
-    let m = recover(&rec).with_context(|| format!("recovering the motion in {}", args.file.display()))?;
+    let m = recover(&rec)
+        .with_context(|| format!("recovering the motion in {}", args.file.display()))?;
     let first = rec.first_frame as f64;
     let turn = |p: &ringlab::recording::recover::DataTurningPoint| TurnJson {
         kind: if p.kind == TurnKind::ThetaMin { "theta_min" } else { "theta_max" },
@@ -63,7 +64,11 @@ pub fn run(args: &RecoverArgs) -> Result<()> {
         frames: m.frames.len(),
         noise_px: m.noise_px,
         mark_order: m.mark_order.name(),
-        spin: if m.spin_sign > 0.0 { "counter-clockwise seen from above" } else { "clockwise seen from above" },
+        spin: if m.spin_sign > 0.0 {
+            "counter-clockwise seen from above"
+        } else {
+            "clockwise seen from above"
+        },
         first_inner_turn: m.first_inner_turn.as_ref().map(turn),
         rest_from_frame: m.rest_from.map(|i| rec.frame_number(i)),
         time_unit_s: m.units.time_s,
@@ -71,9 +76,11 @@ pub fn run(args: &RecoverArgs) -> Result<()> {
         turning_points: m.turning_points.iter().map(turn).collect(),
     };
     if let Some(path) = &args.out {
-        let file = std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+        let file = std::fs::File::create(path)
+            .with_context(|| format!("cannot create {}", path.display()))?;
         let mut w = BufWriter::new(file);
-        write_motion_csv(&mut w, &m, rec.first_frame).with_context(|| format!("writing {}", path.display()))?;
+        write_motion_csv(&mut w, &m, rec.first_frame)
+            .with_context(|| format!("writing {}", path.display()))?;
         w.flush().with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
@@ -81,13 +88,23 @@ pub fn run(args: &RecoverArgs) -> Result<()> {
         return Ok(());
     }
     println!("{}: {} frames at {} fps", args.file.display(), report.frames, rec.header.fps);
-    println!("pixel noise {}", report.noise_px.map_or("unknown (no frame with a spare mark)".into(), |n| format!("{n:.3} px")));
+    println!(
+        "pixel noise {}",
+        report
+            .noise_px
+            .map_or("unknown (no frame with a spare mark)".into(), |n| format!("{n:.3} px"))
+    );
     println!("marks numbered {}; the ring spins {}", report.mark_order, report.spin);
     match &report.first_inner_turn {
-        Some(t) => println!("first inner turning point: frame {:.2}, theta = {:.4} +- {:.4} rad", t.frame, t.theta, t.theta_sigma),
+        Some(t) => println!(
+            "first inner turning point: frame {:.2}, theta = {:.4} +- {:.4} rad",
+            t.frame, t.theta, t.theta_sigma
+        ),
         None => println!("no inner turning point found"),
     }
-    let (mins, maxs) = m.turning_points.iter().fold((0, 0), |(a, b), p| if p.kind == TurnKind::ThetaMin { (a + 1, b) } else { (a, b + 1) });
+    let (mins, maxs) = m.turning_points.iter().fold((0, 0), |(a, b), p| {
+        if p.kind == TurnKind::ThetaMin { (a + 1, b) } else { (a, b + 1) }
+    });
     println!("{} turning points ({mins} theta minima, {maxs} maxima)", m.turning_points.len());
     match report.rest_from_frame {
         Some(f) => println!("still from frame {f}"),

@@ -41,7 +41,12 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub case: CaseArgs,
     /// The moment to show, in the case's time unit (as `simulate` counts it)
-    #[arg(long, allow_negative_numbers = true, required_unless_present = "video", conflicts_with = "video")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        required_unless_present = "video",
+        conflicts_with = "video"
+    )]
     pub time: Option<f64>,
     /// Width in pixels [default: 1280 for a picture, 640 for a video]
     #[arg(long)]
@@ -77,7 +82,12 @@ pub struct RenderArgs {
     #[arg(long, requires = "recording", conflicts_with = "fit")]
     pub diagnose: bool,
     /// Output PNG file
-    #[arg(long, value_name = "FILE.png", required_unless_present = "video", conflicts_with = "video")]
+    #[arg(
+        long,
+        value_name = "FILE.png",
+        required_unless_present = "video",
+        conflicts_with = "video"
+    )]
     pub out: Option<PathBuf>,
     /// Write a video of the run from --from to --to instead of a picture: a GIF (written by
     /// ringlab: a palette of 256 colours per frame, looping) or an MP4 (H.264, made by an
@@ -109,7 +119,12 @@ fn parse_camera(s: &str, r: f32) -> Result<OrbitCamera> {
     if v.len() != 3 || v.iter().any(|x| !x.is_finite()) || v[2] <= 0.0 {
         bail!("--camera '{s}': expected YAW,PITCH,DIST with a positive distance");
     }
-    Ok(OrbitCamera { target: [0.0; 3], yaw: v[0], pitch: v[1].clamp(0.05, 1.52), distance: v[2] * r })
+    Ok(OrbitCamera {
+        target: [0.0; 3],
+        yaw: v[0],
+        pitch: v[1].clamp(0.05, 1.52),
+        distance: v[2] * r,
+    })
 }
 
 /// The picture's or video's size: the flags, or the defaults of each.
@@ -191,7 +206,12 @@ fn frame_source(gpu: &Gpu, args: &RenderArgs, until: Option<f64>) -> Result<Fram
 
 fn run_picture(args: &RenderArgs, time: f64, out: &Path) -> Result<()> {
     // clap lets these through beside --time (it conflicts with --video, which they need).
-    for (given, flag) in [(args.from.is_some(), "--from"), (args.to.is_some(), "--to"), (args.fps.is_some(), "--fps"), (args.speed.is_some(), "--speed")] {
+    for (given, flag) in [
+        (args.from.is_some(), "--from"),
+        (args.to.is_some(), "--to"),
+        (args.fps.is_some(), "--fps"),
+        (args.speed.is_some(), "--speed"),
+    ] {
         if given {
             bail!("{flag} is for a video (--video OUT.gif|OUT.mp4), not a picture (--time, --out)");
         }
@@ -200,7 +220,8 @@ fn run_picture(args: &RenderArgs, time: f64, out: &Path) -> Result<()> {
         bail!("--time = {time}: must be a time at or after the start (0)");
     }
     let size = size(args, [1280, 720])?;
-    if out.extension().and_then(|e| e.to_str()).map(|e| e.eq_ignore_ascii_case("png")) != Some(true) {
+    if out.extension().and_then(|e| e.to_str()).map(|e| e.eq_ignore_ascii_case("png")) != Some(true)
+    {
         bail!("--out {}: only PNG pictures are written (name the file .png)", out.display());
     }
     check_folder("--out", out)?;
@@ -208,12 +229,21 @@ fn run_picture(args: &RenderArgs, time: f64, out: &Path) -> Result<()> {
     let mut source = frame_source(&gpu, args, None)?;
     let image = source.frame(&gpu, time, size)?;
     save_png(&image, out).with_context(|| format!("--out {}", out.display()))?;
-    println!("wrote {} ({}x{}, {} at t = {}, {})", out.display(), size[0], size[1], args.view.into_view().name(), time, gpu.adapter.name);
+    println!(
+        "wrote {} ({}x{}, {} at t = {}, {})",
+        out.display(),
+        size[0],
+        size[1],
+        args.view.into_view().name(),
+        time,
+        gpu.adapter.name
+    );
     Ok(())
 }
 
 fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
-    let format = VideoFormat::of(path).with_context(|| format!("--video {}: name the file .gif or .mp4", path.display()))?;
+    let format = VideoFormat::of(path)
+        .with_context(|| format!("--video {}: name the file .gif or .mp4", path.display()))?;
     let spec = VideoSpec {
         from: args.from.context("--video needs --from")?,
         to: args.to.context("--video needs --to")?,
@@ -259,10 +289,10 @@ fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
 }
 
 fn check_folder(flag: &str, path: &Path) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !dir.is_dir() {
-            bail!("{flag} {}: the folder {} does not exist", path.display(), dir.display());
-        }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+        && !dir.is_dir()
+    {
+        bail!("{flag} {}: the folder {} does not exist", path.display(), dir.display());
     }
     Ok(())
 }
@@ -298,4 +328,3 @@ fn diagnose_recording(app: &mut RinglabApp) -> Result<()> {
     }
     Ok(())
 }
-

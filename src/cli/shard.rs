@@ -13,11 +13,17 @@ pub struct Shard {
 
 impl Shard {
     pub fn parse(s: &str) -> Result<Shard> {
-        let (i, n) = s.split_once('/').with_context(|| format!("--shard '{s}': expected I/N, e.g. 0/8"))?;
-        let index: usize = i.trim().parse().with_context(|| format!("--shard '{s}': I is not a whole number"))?;
-        let count: usize = n.trim().parse().with_context(|| format!("--shard '{s}': N is not a whole number"))?;
+        let (i, n) =
+            s.split_once('/').with_context(|| format!("--shard '{s}': expected I/N, e.g. 0/8"))?;
+        let index: usize =
+            i.trim().parse().with_context(|| format!("--shard '{s}': I is not a whole number"))?;
+        let count: usize =
+            n.trim().parse().with_context(|| format!("--shard '{s}': N is not a whole number"))?;
         if count == 0 || index >= count {
-            bail!("--shard '{s}': needs 0 <= I < N (I counts from 0, as in `sbatch --array=0-{}`)", count.max(1) - 1);
+            bail!(
+                "--shard '{s}': needs 0 <= I < N (I counts from 0, as in `sbatch --array=0-{}`)",
+                count.max(1) - 1
+            );
         }
         Ok(Shard { index, count })
     }
@@ -29,7 +35,12 @@ impl Shard {
 
     /// The items of this shard, in order.
     pub fn pick<T: Clone>(shard: Option<Shard>, items: &[T]) -> Vec<T> {
-        items.iter().enumerate().filter(|(i, _)| shard.is_none_or(|s| s.takes(*i))).map(|(_, x)| x.clone()).collect()
+        items
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| shard.is_none_or(|s| s.takes(*i)))
+            .map(|(_, x)| x.clone())
+            .collect()
     }
 }
 
@@ -48,21 +59,37 @@ pub fn read_tables(paths: &[PathBuf]) -> Result<(Vec<String>, Vec<TableRow>)> {
     let mut header: Option<(Vec<String>, &Path)> = None;
     let mut rows = Vec::new();
     for p in paths {
-        let mut reader = csv::ReaderBuilder::new().has_headers(false).from_path(p).with_context(|| format!("cannot read {}", p.display()))?;
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_path(p)
+            .with_context(|| format!("cannot read {}", p.display()))?;
         let mut records = reader.records();
-        let first = records.next().with_context(|| format!("{}: empty (no header row)", p.display()))?;
-        let this: Vec<String> = first.with_context(|| format!("{}: line 1", p.display()))?.iter().map(str::to_string).collect();
+        let first =
+            records.next().with_context(|| format!("{}: empty (no header row)", p.display()))?;
+        let this: Vec<String> = first
+            .with_context(|| format!("{}: line 1", p.display()))?
+            .iter()
+            .map(str::to_string)
+            .collect();
         match &header {
             None => header = Some((this, p)),
             Some((h, from)) if *h != this => {
-                bail!("{}:1: the header differs from {}'s: are these tables of the same command?", p.display(), from.display())
+                bail!(
+                    "{}:1: the header differs from {}'s: are these tables of the same command?",
+                    p.display(),
+                    from.display()
+                )
             }
             _ => {}
         }
         for r in records {
             let r = r.with_context(|| format!("{}: not a CSV table", p.display()))?;
             let line = r.position().map_or(0, |q| q.line() as usize);
-            rows.push(TableRow { file: p.clone(), line, cells: r.iter().map(str::to_string).collect() });
+            rows.push(TableRow {
+                file: p.clone(),
+                line,
+                cells: r.iter().map(str::to_string).collect(),
+            });
         }
     }
     Ok((header.map(|h| h.0).unwrap_or_default(), rows))
@@ -70,7 +97,8 @@ pub fn read_tables(paths: &[PathBuf]) -> Result<(Vec<String>, Vec<TableRow>)> {
 
 /// Writes a table.
 pub fn write_table(path: &Path, header: &[String], rows: &[&TableRow]) -> Result<()> {
-    let mut w = csv::Writer::from_path(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut w = csv::Writer::from_path(path)
+        .with_context(|| format!("cannot create {}", path.display()))?;
     w.write_record(header)?;
     for r in rows {
         w.write_record(&r.cells)?;
@@ -87,7 +115,9 @@ mod tests {
     fn shards_cover_every_item_once() {
         let items: Vec<usize> = (0..23).collect();
         for n in [1, 2, 5, 23, 30] {
-            let mut all: Vec<usize> = (0..n).flat_map(|i| Shard::pick(Some(Shard { index: i, count: n }), &items)).collect();
+            let mut all: Vec<usize> = (0..n)
+                .flat_map(|i| Shard::pick(Some(Shard { index: i, count: n }), &items))
+                .collect();
             all.sort();
             assert_eq!(all, items, "{n} shards");
         }

@@ -34,7 +34,15 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let summary = sim.run(&mut |s| samples.push(*s));
     let motion = analyze(&start, &summary);
     let seconds = clock.elapsed().as_secs_f64();
-    let mut report = RunReport::new(&case.name, case.units.label(), case.opts.mu, &start, &summary, &motion, seconds);
+    let mut report = RunReport::new(
+        &case.name,
+        case.units.label(),
+        case.opts.mu,
+        &start,
+        &summary,
+        &motion,
+        seconds,
+    );
     report.set_effects(&case.model.effects, &effects);
 
     if let Some(path) = &args.out {
@@ -44,9 +52,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             write_samples_csv(&mut w, &samples).context("writing CSV to standard output")?;
             w.flush()?;
         } else {
-            let file = std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+            let file = std::fs::File::create(path)
+                .with_context(|| format!("cannot create {}", path.display()))?;
             let mut w = BufWriter::new(file);
-            write_samples_csv(&mut w, &samples).with_context(|| format!("writing {}", path.display()))?;
+            write_samples_csv(&mut w, &samples)
+                .with_context(|| format!("writing {}", path.display()))?;
             w.flush().with_context(|| format!("writing {}", path.display()))?;
         }
     }

@@ -1,12 +1,12 @@
 //! `ringlab sweep`: the drag grid, classified run by run.
 
 use super::case_args::CaseArgs;
+use super::shard::{Shard, read_tables, write_table};
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use super::shard::{Shard, read_tables, write_table};
 use ringlab::analysis::sweep::{Axis, CSV_COLUMNS, grid, run_sweep_points, write_csv};
-use ringlab::physics::integrator::Tolerances;
 use ringlab::physics::RunOptions;
+use ringlab::physics::integrator::Tolerances;
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -50,8 +50,10 @@ pub fn parse_range(s: &str, flag: &str) -> Result<(f64, f64)> {
     if parts.len() != 2 {
         bail!("{flag} '{s}': expected LO,HI");
     }
-    let lo: f64 = parts[0].trim().parse().with_context(|| format!("{flag} '{s}': LO is not a number"))?;
-    let hi: f64 = parts[1].trim().parse().with_context(|| format!("{flag} '{s}': HI is not a number"))?;
+    let lo: f64 =
+        parts[0].trim().parse().with_context(|| format!("{flag} '{s}': LO is not a number"))?;
+    let hi: f64 =
+        parts[1].trim().parse().with_context(|| format!("{flag} '{s}': HI is not a number"))?;
     Ok((lo, hi))
 }
 
@@ -65,7 +67,11 @@ pub fn run(args: &SweepArgs) -> Result<()> {
         bail!("--sweep-rtol = {}: must lie in (0, 1)", args.sweep_rtol);
     }
     let mut axes = Vec::new();
-    for (s, flag) in [(&args.c1_range, "--c1-range"), (&args.c2_range, "--c2-range"), (&args.c3_range, "--c3-range")] {
+    for (s, flag) in [
+        (&args.c1_range, "--c1-range"),
+        (&args.c2_range, "--c2-range"),
+        (&args.c3_range, "--c3-range"),
+    ] {
         let (lo, hi) = parse_range(s, flag)?;
         let axis = Axis { lo, hi, n: args.n, log: true };
         axis.validate(flag).map_err(anyhow::Error::msg)?;
@@ -73,7 +79,8 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     }
     let axes = [axes[0], axes[1], axes[2]];
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build()?;
-    let opts = RunOptions { tol: Tolerances { rtol: args.sweep_rtol, atol: 1e-10 }, ..case.opts.clone() };
+    let opts =
+        RunOptions { tol: Tolerances { rtol: args.sweep_rtol, atol: 1e-10 }, ..case.opts.clone() };
     let all = grid(axes);
     let indices = Shard::pick(shard, &(0..all.len()).collect::<Vec<_>>());
     let points: Vec<[f64; 3]> = indices.iter().map(|&i| all[i]).collect();
@@ -88,7 +95,8 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     });
     let secs = clock.elapsed().as_secs_f64();
     eprintln!();
-    let file = std::fs::File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    let file = std::fs::File::create(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut w = std::io::BufWriter::new(file);
     write_csv(&mut w, &rows, &indices, all.len())?;
     w.flush()?;
@@ -106,12 +114,23 @@ pub fn run(args: &SweepArgs) -> Result<()> {
 fn merge(tables: &[PathBuf], out: &std::path::Path) -> Result<()> {
     let (header, rows) = read_tables(tables)?;
     if header.join(",") != CSV_COLUMNS {
-        bail!("{}: not a table of `ringlab sweep` (its columns are {})", tables[0].display(), header.join(","));
+        bail!(
+            "{}: not a table of `ringlab sweep` (its columns are {})",
+            tables[0].display(),
+            header.join(",")
+        );
     }
     let n = header.len();
     let whole = |r: &super::shard::TableRow, k: usize| -> Result<usize> {
         let cell = r.cells.get(k).map_or("", String::as_str);
-        cell.parse().with_context(|| format!("{}:{}: {} = '{cell}' is not a whole number", r.file.display(), r.line, header[k]))
+        cell.parse().with_context(|| {
+            format!(
+                "{}:{}: {} = '{cell}' is not a whole number",
+                r.file.display(),
+                r.line,
+                header[k]
+            )
+        })
     };
     let mut size = None;
     let mut keyed = Vec::with_capacity(rows.len());
@@ -129,7 +148,11 @@ fn merge(tables: &[PathBuf], out: &std::path::Path) -> Result<()> {
             _ => {}
         }
         if index >= this {
-            bail!("{}:{}: grid_index {index} is not below grid_size {this}", r.file.display(), r.line);
+            bail!(
+                "{}:{}: grid_index {index} is not below grid_size {this}",
+                r.file.display(),
+                r.line
+            );
         }
         keyed.push((index, r));
     }
@@ -137,13 +160,24 @@ fn merge(tables: &[PathBuf], out: &std::path::Path) -> Result<()> {
     for w in keyed.windows(2) {
         if w[0].0 == w[1].0 {
             let (a, b) = (w[0].1, w[1].1);
-            bail!("grid point {} is in two tables: {}:{} and {}:{}", w[0].0, a.file.display(), a.line, b.file.display(), b.line);
+            bail!(
+                "grid point {} is in two tables: {}:{} and {}:{}",
+                w[0].0,
+                a.file.display(),
+                a.line,
+                b.file.display(),
+                b.line
+            );
         }
     }
     let size = size.map_or(0, |s| s.0);
     if keyed.len() != size {
-        let missing = (0..size).find(|i| keyed.binary_search_by_key(i, |(k, _)| *k).is_err()).unwrap_or(0);
-        bail!("the tables hold {} of the {size} points of their grid (point {missing} is missing): is a shard missing?", keyed.len());
+        let missing =
+            (0..size).find(|i| keyed.binary_search_by_key(i, |(k, _)| *k).is_err()).unwrap_or(0);
+        bail!(
+            "the tables hold {} of the {size} points of their grid (point {missing} is missing): is a shard missing?",
+            keyed.len()
+        );
     }
     let sorted: Vec<_> = keyed.iter().map(|(_, r)| *r).collect();
     write_table(out, &header, &sorted)?;

@@ -65,9 +65,13 @@ pub struct SynthArgs {
 }
 
 fn parse_image(s: &str) -> Result<(f64, f64)> {
-    let (w, h) = s.split_once(['x', 'X']).with_context(|| format!("--image '{s}': expected WIDTHxHEIGHT, e.g. 1280x1024"))?;
-    let w: f64 = w.trim().parse().with_context(|| format!("--image '{s}': width is not a number"))?;
-    let h: f64 = h.trim().parse().with_context(|| format!("--image '{s}': height is not a number"))?;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--image '{s}': expected WIDTHxHEIGHT, e.g. 1280x1024"))?;
+    let w: f64 =
+        w.trim().parse().with_context(|| format!("--image '{s}': width is not a number"))?;
+    let h: f64 =
+        h.trim().parse().with_context(|| format!("--image '{s}': height is not a number"))?;
     Ok((w, h))
 }
 
@@ -76,7 +80,9 @@ fn camera_note(opts: &SynthOptions) -> String {
     if opts.camera_distance_mm.is_none() && opts.camera_tilt_deg == 0.0 {
         return String::new();
     }
-    let distance = opts.camera_distance_mm.map_or("orthographic".to_string(), |d| format!("pinhole at {d} mm"));
+    let distance = opts
+        .camera_distance_mm
+        .map_or("orthographic".to_string(), |d| format!("pinhole at {d} mm"));
     let header = if opts.camera_in_header { "in the header" } else { "not in the header" };
     format!("; camera {distance}, tilt {} deg ({header})", opts.camera_tilt_deg)
 }
@@ -92,7 +98,9 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             })?;
             match (kind, strength) {
                 (EffectKind::None, _) => None,
-                (_, None) => bail!("--effect {name} needs --effect-strength X ({})", kind.parameter()),
+                (_, None) => {
+                    bail!("--effect {name} needs --effect-strength X ({})", kind.parameter())
+                }
                 (_, Some(x)) => Some((kind, x)),
             }
         }
@@ -114,7 +122,8 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         camera_tilt_deg: args.camera_tilt_deg,
         camera_in_header: args.camera_in_header,
     };
-    let synth = synthesize(&case, &opts).with_context(|| format!("synthesizing a recording of case '{}'", case.name))?;
+    let synth = synthesize(&case, &opts)
+        .with_context(|| format!("synthesizing a recording of case '{}'", case.name))?;
     let rec = &synth.recording;
     if args.out.as_os_str() == "-" {
         let stdout = std::io::stdout();
@@ -122,25 +131,35 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         write_recording(&mut w, rec).context("writing the recording to standard output")?;
         w.flush()?;
     } else {
-        let file = std::fs::File::create(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+        let file = std::fs::File::create(&args.out)
+            .with_context(|| format!("cannot create {}", args.out.display()))?;
         let mut w = BufWriter::new(file);
         write_recording(&mut w, rec).with_context(|| format!("writing {}", args.out.display()))?;
         w.flush().with_context(|| format!("writing {}", args.out.display()))?;
     }
-    let moving = synth.samples.len() - if synth.summary.end_reason.is_natural() { args.rest_frames } else { 0 };
+    let moving = synth.samples.len()
+        - if synth.summary.end_reason.is_natural() { args.rest_frames } else { 0 };
     eprintln!(
         "{}: {} frames at {} fps ({} moving, then {}); run ended {} at t = {:.4} ({:.3} s); noise {} px{}{}{}",
         args.out.display(),
         rec.frames.len(),
         args.fps,
         moving,
-        if synth.summary.end_reason.is_natural() { format!("{} at rest", args.rest_frames) } else { "none at rest".into() },
+        if synth.summary.end_reason.is_natural() {
+            format!("{} at rest", args.rest_frames)
+        } else {
+            "none at rest".into()
+        },
         synth.summary.end_reason,
         synth.summary.t_end,
         synth.summary.t_end * synth.time_s,
         args.noise_px,
         effect.map(|(k, x)| format!("; effect {k} = {x}")).unwrap_or_default(),
-        if synth.camera.k1 != 0.0 { format!("; lens k1 = {}", synth.camera.k1) } else { String::new() },
+        if synth.camera.k1 != 0.0 {
+            format!("; lens k1 = {}", synth.camera.k1)
+        } else {
+            String::new()
+        },
         camera_note(&opts),
     );
     Ok(())

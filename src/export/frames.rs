@@ -49,9 +49,23 @@ pub enum Aim {
 const GAP: u32 = 4;
 
 enum Kind {
-    ThreeD { tracks: Vec<Track>, camera: OrbitCamera, aim: Aim, contact: bool, renderer: SceneRenderer },
-    Top { tracks: Vec<(String, Track)>, contact: bool, bounds: Option<trace_panel::Bounds>, ui: UiRenderer },
-    App { app: Box<RinglabApp>, ui: UiRenderer },
+    ThreeD {
+        tracks: Vec<Track>,
+        camera: OrbitCamera,
+        aim: Aim,
+        contact: bool,
+        renderer: SceneRenderer,
+    },
+    Top {
+        tracks: Vec<(String, Track)>,
+        contact: bool,
+        bounds: Option<trace_panel::Bounds>,
+        ui: UiRenderer,
+    },
+    App {
+        app: Box<RinglabApp>,
+        ui: UiRenderer,
+    },
 }
 
 /// Draws frames of one or two runs (or the whole app) at any time.
@@ -63,7 +77,13 @@ pub struct FrameSource {
 
 impl FrameSource {
     /// The 3D scene of `cases` (one, or two side by side).
-    pub fn three_d(gpu: &Gpu, cases: Vec<Case>, camera: OrbitCamera, aim: Aim, contact: bool) -> FrameSource {
+    pub fn three_d(
+        gpu: &Gpu,
+        cases: Vec<Case>,
+        camera: OrbitCamera,
+        aim: Aim,
+        contact: bool,
+    ) -> FrameSource {
         let tracks = cases.into_iter().map(Track::compute).collect();
         let renderer = SceneRenderer::new(&gpu.device, None);
         FrameSource { kind: Kind::ThreeD { tracks, camera, aim, contact, renderer }, drawn: 0 }
@@ -71,9 +91,16 @@ impl FrameSource {
 
     /// The trace panel of named cases; the panel covers the whole runs (it stands still).
     pub fn top(gpu: &Gpu, runs: Vec<(String, Case)>, contact: bool) -> FrameSource {
-        let tracks: Vec<(String, Track)> = runs.into_iter().map(|(n, c)| (n, Track::compute(c))).collect();
-        let bounds = tracks.iter().filter_map(|(_, t)| trace_panel::Bounds::of(t, contact)).reduce(trace_panel::Bounds::union);
-        FrameSource { kind: Kind::Top { tracks, contact, bounds, ui: UiRenderer::new(gpu) }, drawn: 0 }
+        let tracks: Vec<(String, Track)> =
+            runs.into_iter().map(|(n, c)| (n, Track::compute(c))).collect();
+        let bounds = tracks
+            .iter()
+            .filter_map(|(_, t)| trace_panel::Bounds::of(t, contact))
+            .reduce(trace_panel::Bounds::union);
+        FrameSource {
+            kind: Kind::Top { tracks, contact, bounds, ui: UiRenderer::new(gpu) },
+            drawn: 0,
+        }
     }
 
     /// The whole window of `app` (in fixed mode: its runs computed, its clock moved per frame).
@@ -123,12 +150,21 @@ impl FrameSource {
                                 cam.target = [m[0] as f32, m[1] as f32, 0.0];
                             }
                         }
-                        scene::scene_frame(track, ti, &cam, *aim == Aim::Follow, *contact, BODY_LINEAR[i % 2])
+                        scene::scene_frame(
+                            track,
+                            ti,
+                            &cam,
+                            *aim == Aim::Follow,
+                            *contact,
+                            BODY_LINEAR[i % 2],
+                        )
                     })
                     .collect();
                 render_views(gpu, renderer, &frames, size)
             }
-            Kind::Top { tracks, contact, bounds, ui } => ui.render(gpu, size, passes, |u| top_ui(u, tracks, seconds, *contact, *bounds)),
+            Kind::Top { tracks, contact, bounds, ui } => {
+                ui.render(gpu, size, passes, |u| top_ui(u, tracks, seconds, *contact, *bounds))
+            }
             Kind::App { app, ui } => {
                 app.seek_model_time(t);
                 ui.render(gpu, size, passes, |u| app.ui_root(u))
@@ -150,16 +186,30 @@ fn path_middle(track: &Track, t: f64) -> Option<[f64; 2]> {
 }
 
 /// Scene frames side by side in a picture of `size` (each its share of the width).
-pub fn render_views(gpu: &Gpu, renderer: &mut SceneRenderer, frames: &[SceneFrame], size: [u32; 2]) -> Result<RgbaImage, RenderError> {
+pub fn render_views(
+    gpu: &Gpu,
+    renderer: &mut SceneRenderer,
+    frames: &[SceneFrame],
+    size: [u32; 2],
+) -> Result<RgbaImage, RenderError> {
     let n = frames.len().max(1) as u32;
     let gap = if n > 1 { GAP } else { 0 };
     let w = size[0].saturating_sub(gap * (n - 1)) / n;
-    let images = frames.iter().map(|f| gpu.render_scene(renderer, f, [w.max(1), size[1]])).collect::<Result<Vec<_>, _>>()?;
+    let images = frames
+        .iter()
+        .map(|f| gpu.render_scene(renderer, f, [w.max(1), size[1]]))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(side_by_side(&images, size, gap))
 }
 
 /// The trace panel of each run, side by side, at `seconds` of the shared clock.
-fn top_ui(ui: &mut egui::Ui, tracks: &[(String, Track)], seconds: f64, contact: bool, bounds: Option<trace_panel::Bounds>) {
+fn top_ui(
+    ui: &mut egui::Ui,
+    tracks: &[(String, Track)],
+    seconds: f64,
+    contact: bool,
+    bounds: Option<trace_panel::Bounds>,
+) {
     // The app's theme (the panel's colours assume it); the first pass already uses it.
     ui.ctx().set_theme(egui::Theme::Light);
     egui::CentralPanel::default().show(ui, |ui| {
@@ -170,7 +220,14 @@ fn top_ui(ui: &mut egui::Ui, tracks: &[(String, Track)], seconds: f64, contact: 
             for (name, t) in tracks {
                 let time = seconds / t.case().units.time_s;
                 ui.allocate_ui(egui::vec2(w, h), |ui| {
-                    trace_panel::trace_panel_ui(ui, &format!("path of A from above: {name}"), t, time, contact, bounds);
+                    trace_panel::trace_panel_ui(
+                        ui,
+                        &format!("path of A from above: {name}"),
+                        t,
+                        time,
+                        contact,
+                        bounds,
+                    );
                 });
             }
         });

@@ -44,13 +44,26 @@ struct Screen {
 impl GifWriter {
     pub fn create(path: &Path, size: [u32; 2], fps: f64) -> Result<GifWriter, ExportError> {
         let (Ok(w), Ok(h)) = (u16::try_from(size[0]), u16::try_from(size[1])) else {
-            return Err(ExportError::Invalid(format!("{}x{} is not a GIF size (at most 65535 pixels a side)", size[0], size[1])));
+            return Err(ExportError::Invalid(format!(
+                "{}x{} is not a GIF size (at most 65535 pixels a side)",
+                size[0], size[1]
+            )));
         };
         let file = File::create(path).map_err(ExportError::io(path))?;
-        let encode = |e: gif::EncodingError| ExportError::Encode { path: path.to_path_buf(), message: e.to_string() };
+        let encode = |e: gif::EncodingError| ExportError::Encode {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        };
         let mut encoder = gif::Encoder::new(BufWriter::new(file), w, h, &[]).map_err(encode)?;
         encoder.set_repeat(gif::Repeat::Infinite).map_err(encode)?;
-        Ok(GifWriter { encoder, path: path.to_path_buf(), size: [w, h], fps, frames: 0, screen: Screen::default() })
+        Ok(GifWriter {
+            encoder,
+            path: path.to_path_buf(),
+            size: [w, h],
+            fps,
+            frames: 0,
+            screen: Screen::default(),
+        })
     }
 
     fn encode_error(&self, e: impl std::fmt::Display) -> ExportError {
@@ -68,7 +81,11 @@ pub fn delay_cs(k: u64, fps: f64) -> u16 {
 impl FrameSink for GifWriter {
     fn push(&mut self, frame: &RgbaImage) -> Result<(), ExportError> {
         if frame.dimensions() != (self.size[0] as u32, self.size[1] as u32) {
-            return Err(self.encode_error(format!("a frame of {:?} pixels in a GIF of {:?}", frame.dimensions(), self.size)));
+            return Err(self.encode_error(format!(
+                "a frame of {:?} pixels in a GIF of {:?}",
+                frame.dimensions(),
+                self.size
+            )));
         }
         let mut f = self.screen.update(frame);
         f.dispose = gif::DisposalMethod::Keep;
@@ -79,7 +96,10 @@ impl FrameSink for GifWriter {
 
     fn finish(self: Box<Self>) -> Result<(), ExportError> {
         let path = self.path.clone();
-        let writer = self.encoder.into_inner().map_err(|e| ExportError::Encode { path: path.clone(), message: e.to_string() })?;
+        let writer = self
+            .encoder
+            .into_inner()
+            .map_err(|e| ExportError::Encode { path: path.clone(), message: e.to_string() })?;
         let mut file = writer.into_inner().map_err(|e| ExportError::io(&path)(e.into_error()))?;
         file.flush().map_err(ExportError::io(&path))
     }
@@ -166,11 +186,19 @@ mod tests {
     fn a_still_picture_settles_then_costs_a_transparent_pixel() {
         // Thousands of colours and a few pixels of the retrograde red: more than one palette holds.
         let img = RgbaImage::from_fn(300, 120, |x, y| {
-            if x < 3 && y < 3 { Rgba([205, 35, 95, 255]) } else { Rgba([(x % 256) as u8, (2 * y) as u8, ((x + y) % 256) as u8, 255]) }
+            if x < 3 && y < 3 {
+                Rgba([205, 35, 95, 255])
+            } else {
+                Rgba([(x % 256) as u8, (2 * y) as u8, ((x + y) % 256) as u8, 255])
+            }
         });
         let mut screen = Screen::default();
         let first = screen.update(&img);
-        assert_eq!((first.width, first.height, first.transparent), (300, 120, None), "the whole first frame");
+        assert_eq!(
+            (first.width, first.height, first.transparent),
+            (300, 120, None),
+            "the whole first frame"
+        );
         let mut sizes = Vec::new();
         for _ in 0..4 {
             let f = screen.update(&img);
@@ -190,7 +218,11 @@ mod tests {
         img.put_pixel(20, 10, Rgba([10, 10, 10, 255]));
         img.put_pixel(22, 12, Rgba([203, 200, 190, 255]));
         let f = screen.update(&img);
-        assert_eq!((f.left, f.top, f.width, f.height), (20, 10, 1, 1), "a change of 3 levels is not written");
+        assert_eq!(
+            (f.left, f.top, f.width, f.height),
+            (20, 10, 1, 1),
+            "a change of 3 levels is not written"
+        );
     }
 
     #[test]

@@ -34,14 +34,26 @@ impl Mp4Writer {
             .args(["-f", "rawvideo", "-pix_fmt", "rgba", "-s", &format!("{}x{}", size[0], size[1])])
             .args(["-framerate", &format!("{fps}"), "-i", "pipe:0", "-an"])
             // yuv420p needs an even width and height: pad by a pixel where they are odd.
-            .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "20"])
+            .args([
+                "-vf",
+                "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                "-c:v",
+                "libx264",
+                "-pix_fmt",
+                "yuv420p",
+                "-crf",
+                "20",
+            ])
             .args(["-movflags", "+faststart", "-f", "mp4"])
             .arg(path)
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| ExportError::Ffmpeg { path: path.to_path_buf(), message: format!("cannot start {}: {e}", ffmpeg.display()) })?;
+            .map_err(|e| ExportError::Ffmpeg {
+                path: path.to_path_buf(),
+                message: format!("cannot start {}: {e}", ffmpeg.display()),
+            })?;
         let stdin = child.stdin.take();
         let stderr = child.stderr.take().map(|mut s| {
             std::thread::spawn(move || {
@@ -56,13 +68,20 @@ impl Mp4Writer {
     /// Waits for ffmpeg; its complaint when it failed.
     fn wait(&mut self) -> Result<(), ExportError> {
         self.stdin = None;
-        let status = self.child.wait().map_err(|e| ExportError::Ffmpeg { path: self.path.clone(), message: e.to_string() })?;
+        let status = self
+            .child
+            .wait()
+            .map_err(|e| ExportError::Ffmpeg { path: self.path.clone(), message: e.to_string() })?;
         let said = self.stderr.take().and_then(|h| h.join().ok()).unwrap_or_default();
         if status.success() {
             return Ok(());
         }
         let said = said.trim();
-        let message = if said.is_empty() { format!("it ended with {status}") } else { format!("{status}: {said}") };
+        let message = if said.is_empty() {
+            format!("it ended with {status}")
+        } else {
+            format!("{status}: {said}")
+        };
         Err(ExportError::Ffmpeg { path: self.path.clone(), message })
     }
 }
@@ -70,13 +89,20 @@ impl Mp4Writer {
 impl FrameSink for Mp4Writer {
     fn push(&mut self, frame: &RgbaImage) -> Result<(), ExportError> {
         if frame.dimensions() != (self.size[0], self.size[1]) {
-            return Err(ExportError::Invalid(format!("a frame of {:?} pixels in a video of {:?}", frame.dimensions(), self.size)));
+            return Err(ExportError::Invalid(format!(
+                "a frame of {:?} pixels in a video of {:?}",
+                frame.dimensions(),
+                self.size
+            )));
         }
         let written = self.stdin.as_mut().map(|s| s.write_all(frame.as_raw()));
         match written {
             Some(Ok(())) => Ok(()),
             // ffmpeg stopped taking frames: what it said is the error.
-            _ => Err(self.wait().err().unwrap_or_else(|| ExportError::Ffmpeg { path: self.path.clone(), message: "it stopped taking frames".into() })),
+            _ => Err(self.wait().err().unwrap_or_else(|| ExportError::Ffmpeg {
+                path: self.path.clone(),
+                message: "it stopped taking frames".into(),
+            })),
         }
     }
 

@@ -7,10 +7,14 @@ use std::path::Path;
 
 /// Writes `img` as a PNG; the folder must exist.
 pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), ExportError> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !dir.is_dir() {
-            return Err(ExportError::Invalid(format!("{}: the folder {} does not exist", path.display(), dir.display())));
-        }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+        && !dir.is_dir()
+    {
+        return Err(ExportError::Invalid(format!(
+            "{}: the folder {} does not exist",
+            path.display(),
+            dir.display()
+        )));
     }
     img.save_with_format(path, image::ImageFormat::Png)
         .map_err(|e| ExportError::Encode { path: path.to_path_buf(), message: e.to_string() })
@@ -26,7 +30,8 @@ pub fn from_color_image(c: &egui::ColorImage) -> RgbaImage {
 /// Views side by side on white in a picture of `size`, each at `i (w + gap)` (the 3D view of
 /// two runs; `w` the first's width).
 pub fn side_by_side(images: &[RgbaImage], size: [u32; 2], gap: u32) -> RgbaImage {
-    let mut out = RgbaImage::from_pixel(size[0].max(1), size[1].max(1), image::Rgba([255, 255, 255, 255]));
+    let mut out =
+        RgbaImage::from_pixel(size[0].max(1), size[1].max(1), image::Rgba([255, 255, 255, 255]));
     let w = images.first().map_or(0, |i| i.width());
     for (i, img) in images.iter().enumerate() {
         image::imageops::replace(&mut out, img, (i as u32 * (w + gap)) as i64, 0);

@@ -45,15 +45,25 @@ impl FileTask {
     /// where it starts.
     pub fn dialog(&self, name: String, folder: Option<PathBuf>) -> DialogRequest {
         let (title, filter, save) = match self {
-            FileTask::OpenCase => ("Open a case (TOML, the presets' shape)", ("cases", "toml"), false),
+            FileTask::OpenCase => {
+                ("Open a case (TOML, the presets' shape)", ("cases", "toml"), false)
+            }
             FileTask::SaveCase => ("Save the case (TOML)", ("cases", "toml"), true),
-            FileTask::ExportCsv => ("Export the run as CSV (the columns of simulate --out)", ("CSV", "csv"), true),
+            FileTask::ExportCsv => {
+                ("Export the run as CSV (the columns of simulate --out)", ("CSV", "csv"), true)
+            }
             FileTask::Picture(_) => ("Save a picture (PNG)", ("PNG pictures", "png"), true),
-            FileTask::Video(v) => ("Export a video", if v.format == VideoFormat::Gif { ("GIF", "gif") } else { ("MP4", "mp4") }, true),
+            FileTask::Video(v) => (
+                "Export a video",
+                if v.format == VideoFormat::Gif { ("GIF", "gif") } else { ("MP4", "mp4") },
+                true,
+            ),
         };
         let instead = match self {
             FileTask::OpenCase => "start ringlab with --config FILE.toml instead",
-            FileTask::Picture(_) => "F12 saves a picture of the window without asking (Shift+F12: the 3D view)",
+            FileTask::Picture(_) => {
+                "F12 saves a picture of the window without asking (Shift+F12: the 3D view)"
+            }
             _ => "ringlab's command line writes the same files (see ringlab --help)",
         };
         DialogRequest {
@@ -82,7 +92,14 @@ pub struct ExportSession {
 
 impl ExportSession {
     pub fn new(background: bool) -> ExportSession {
-        ExportSession { background, request: None, dialog: None, writing: Vec::new(), video: None, last_folder: None }
+        ExportSession {
+            background,
+            request: None,
+            dialog: None,
+            writing: Vec::new(),
+            video: None,
+            last_folder: None,
+        }
     }
 
     /// Asks for a path for `task` (one dialog at a time: a second request waits for none).
@@ -127,7 +144,10 @@ impl ExportSession {
     }
 
     /// Starts a video (none while one runs); `work` reports its progress and watches for Cancel.
-    pub fn start_video(&mut self, work: impl FnOnce(&JobContext) -> Outcome + Send + 'static) -> bool {
+    pub fn start_video(
+        &mut self,
+        work: impl FnOnce(&JobContext) -> Outcome + Send + 'static,
+    ) -> bool {
         if self.video.is_some() {
             return false;
         }
@@ -164,11 +184,11 @@ impl ExportSession {
             }
             None => true,
         });
-        if let Some(j) = &mut self.video {
-            if let Some(r) = j.poll() {
-                done.push(r.unwrap_or_else(|e| Err(e.to_string())));
-                self.video = None;
-            }
+        if let Some(j) = &mut self.video
+            && let Some(r) = j.poll()
+        {
+            done.push(r.unwrap_or_else(|e| Err(e.to_string())));
+            self.video = None;
         }
         done
     }

@@ -57,19 +57,31 @@ impl VideoSpec {
     /// What is wrong with the numbers, named as the command line names them.
     pub fn check(&self, format: VideoFormat) -> Result<(), String> {
         if !(self.from.is_finite() && self.from >= 0.0) {
-            return Err(format!("--from = {}: must be a time at or after the start (0)", self.from));
+            return Err(format!(
+                "--from = {}: must be a time at or after the start (0)",
+                self.from
+            ));
         }
         if !(self.to.is_finite() && self.to > self.from) {
             return Err(format!("--to = {}: must be later than --from = {}", self.to, self.from));
         }
         if !(self.fps.is_finite() && self.fps >= 1.0 && self.fps <= 120.0) {
-            return Err(format!("--fps = {}: must be between 1 and 120 frames per second", self.fps));
+            return Err(format!(
+                "--fps = {}: must be between 1 and 120 frames per second",
+                self.fps
+            ));
         }
         if format == VideoFormat::Gif && self.fps > GIF_MAX_FPS {
-            return Err(format!("--fps = {}: a GIF plays at most {GIF_MAX_FPS} frames per second (its delays are hundredths of a second)", self.fps));
+            return Err(format!(
+                "--fps = {}: a GIF plays at most {GIF_MAX_FPS} frames per second (its delays are hundredths of a second)",
+                self.fps
+            ));
         }
         if !(self.speed.is_finite() && self.speed > 0.0 && self.speed <= 1000.0) {
-            return Err(format!("--speed = {}: must be a multiple of real time above 0 (at most 1000)", self.speed));
+            return Err(format!(
+                "--speed = {}: must be a multiple of real time above 0 (at most 1000)",
+                self.speed
+            ));
         }
         Ok(())
     }
@@ -103,7 +115,10 @@ pub fn open_sink(path: &Path, size: [u32; 2], fps: f64) -> Result<Box<dyn FrameS
     match VideoFormat::of(path) {
         Some(VideoFormat::Gif) => Ok(Box::new(GifWriter::create(path, size, fps)?)),
         Some(VideoFormat::Mp4) => Ok(Box::new(Mp4Writer::spawn(path, size, fps)?)),
-        None => Err(ExportError::Invalid(format!("{}: a video is a .gif or an .mp4 file", path.display()))),
+        None => Err(ExportError::Invalid(format!(
+            "{}: a video is a .gif or an .mp4 file",
+            path.display()
+        ))),
     }
 }
 
@@ -129,14 +144,16 @@ pub fn write_video(
     path: &Path,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<VideoReport, ExportError> {
-    let format = VideoFormat::of(path)
-        .ok_or_else(|| ExportError::Invalid(format!("{}: a video is a .gif or an .mp4 file", path.display())))?;
+    let format = VideoFormat::of(path).ok_or_else(|| {
+        ExportError::Invalid(format!("{}: a video is a .gif or an .mp4 file", path.display()))
+    })?;
     spec.check(format).map_err(ExportError::Invalid)?;
     let times = spec.frame_times(source.time_unit_s()).map_err(ExportError::Invalid)?;
     let clock = std::time::Instant::now();
     let mut sink = open_sink(path, size, spec.fps)?;
     for (k, &t) in times.iter().enumerate() {
-        let pushed = source.frame(gpu, t, size).map_err(ExportError::from).and_then(|img| sink.push(&img));
+        let pushed =
+            source.frame(gpu, t, size).map_err(ExportError::from).and_then(|img| sink.push(&img));
         if let Err(e) = pushed {
             sink.abandon();
             return Err(e);
@@ -148,7 +165,13 @@ pub fn write_video(
     }
     sink.finish()?;
     let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    Ok(VideoReport { path: path.to_path_buf(), frames: times.len(), bytes, size, seconds: clock.elapsed().as_secs_f64() })
+    Ok(VideoReport {
+        path: path.to_path_buf(),
+        frames: times.len(),
+        bytes,
+        size,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
 }
 
 #[cfg(test)]

@@ -17,7 +17,13 @@ pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo
         ctx.tessellation_options_mut(|t| t.feathering = false);
         ctx.all_styles_mut(|s| {
             let v = &mut s.visuals;
-            for w in [&mut v.widgets.noninteractive, &mut v.widgets.inactive, &mut v.widgets.hovered, &mut v.widgets.active, &mut v.widgets.open] {
+            for w in [
+                &mut v.widgets.noninteractive,
+                &mut v.widgets.inactive,
+                &mut v.widgets.hovered,
+                &mut v.widgets.active,
+                &mut v.widgets.open,
+            ] {
                 w.corner_radius = egui::CornerRadius::ZERO;
             }
             v.window_corner_radius = egui::CornerRadius::ZERO;

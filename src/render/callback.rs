@@ -23,7 +23,8 @@ pub struct SceneCallback {
 /// the test harness's) render state.
 pub fn install(render_state: &egui_wgpu::RenderState) {
     let renderer = SceneRenderer::new(&render_state.device, Some(render_state.target_format));
-    let painter = super::ui_painter::UiPainter::new(&render_state.device, render_state.target_format);
+    let painter =
+        super::ui_painter::UiPainter::new(&render_state.device, render_state.target_format);
     let mut egui_renderer = render_state.renderer.write();
     egui_renderer.callback_resources.insert(renderer);
     egui_renderer.callback_resources.insert(painter);
@@ -31,7 +32,12 @@ pub fn install(render_state: &egui_wgpu::RenderState) {
 
 /// The paint callback for view `slot` showing `frame` in `rect`, drawn at `scale` of its
 /// pixels (clamped to 0.25..1).
-pub fn paint_callback(slot: usize, rect: egui::Rect, scale: f32, frame: SceneFrame) -> egui::PaintCallback {
+pub fn paint_callback(
+    slot: usize,
+    rect: egui::Rect,
+    scale: f32,
+    frame: SceneFrame,
+) -> egui::PaintCallback {
     let scale = if scale.is_finite() { scale.clamp(0.25, 1.0) } else { 1.0 };
     egui_wgpu::Callback::new_paint_callback(rect, SceneCallback { slot, frame, rect, scale })
 }
@@ -56,7 +62,12 @@ impl CallbackTrait for SceneCallback {
         Vec::new()
     }
 
-    fn paint(&self, _info: egui::PaintCallbackInfo, pass: &mut wgpu::RenderPass<'static>, resources: &CallbackResources) {
+    fn paint(
+        &self,
+        _info: egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+        resources: &CallbackResources,
+    ) {
         if let Some(r) = resources.get::<SceneRenderer>() {
             r.paint(self.slot, pass);
         }

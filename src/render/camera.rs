@@ -62,7 +62,12 @@ impl CameraView {
     /// distance to the target.
     pub fn proj_matrix(&self, aspect: f32, far: f32) -> Mat4 {
         let d = (self.eye - self.target).length().max(1e-6);
-        glam::camera::rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), 0.02 * d, far.max(2.0 * d))
+        glam::camera::rh::proj::directx::perspective(
+            self.fov_y,
+            aspect.max(1e-3),
+            0.02 * d,
+            far.max(2.0 * d),
+        )
     }
 }
 

@@ -3,8 +3,8 @@
 
 use super::pipelines::COLOR_FORMAT;
 use super::renderer::SceneRenderer;
-use eframe::{egui, egui_wgpu};
 use super::scene::SceneFrame;
+use eframe::{egui, egui_wgpu};
 use image::RgbaImage;
 use std::time::Duration;
 use thiserror::Error;
@@ -39,8 +39,9 @@ impl Gpu {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = wgpu::Backends::VULKAN;
         let instance = wgpu::Instance::new(desc);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
+        let adapter =
+            pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+                .map_err(|e| RenderError::NoAdapter(e.to_string()))?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("ringlab headless"),
             required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
@@ -63,33 +64,52 @@ impl Gpu {
     }
 
     /// Renders the 3D scene alone.
-    pub fn render_scene(&self, renderer: &mut SceneRenderer, frame: &SceneFrame, size: [u32; 2]) -> Result<RgbaImage, RenderError> {
+    pub fn render_scene(
+        &self,
+        renderer: &mut SceneRenderer,
+        frame: &SceneFrame,
+        size: [u32; 2],
+    ) -> Result<RgbaImage, RenderError> {
         self.check_size(size[0], size[1])?;
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("scene") });
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("scene") });
         renderer.render(&self.device, &self.queue, &mut encoder, 0, frame, size);
         self.queue.submit([encoder.finish()]);
-        let texture = renderer.color_texture(0).ok_or_else(|| RenderError::Readback("nothing was rendered".into()))?;
+        let texture = renderer
+            .color_texture(0)
+            .ok_or_else(|| RenderError::Readback("nothing was rendered".into()))?;
         read_texture(&self.device, &self.queue, texture)
     }
 }
 
 /// Copies an Rgba8 texture into an image (rows padded to 256 bytes on the way).
-pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<RgbaImage, RenderError> {
+pub fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<RgbaImage, RenderError> {
     let (w, h) = (texture.width(), texture.height());
     let row = 4 * w;
-    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: (padded * h) as u64,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+    let mut encoder =
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
         },
         wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );
@@ -115,7 +135,8 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
     }
     drop(data);
     buffer.unmap();
-    RgbaImage::from_raw(w, h, pixels).ok_or_else(|| RenderError::Readback("wrong number of bytes".into()))
+    RgbaImage::from_raw(w, h, pixels)
+        .ok_or_else(|| RenderError::Readback("wrong number of bytes".into()))
 }
 
 /// egui drawn offscreen: the whole app or one panel, for `ringlab render --view app|top` and
@@ -129,13 +150,17 @@ pub struct UiRenderer {
     pub last_stats: super::ui_stats::UiStats,
 }
 
-
-
 impl UiRenderer {
     pub fn new(gpu: &Gpu) -> UiRenderer {
-        let mut renderer = egui_wgpu::Renderer::new(&gpu.device, COLOR_FORMAT, egui_wgpu::RendererOptions { dithering: false, ..Default::default() });
+        let mut renderer = egui_wgpu::Renderer::new(
+            &gpu.device,
+            COLOR_FORMAT,
+            egui_wgpu::RendererOptions { dithering: false, ..Default::default() },
+        );
         renderer.callback_resources.insert(SceneRenderer::new(&gpu.device, Some(COLOR_FORMAT)));
-        renderer.callback_resources.insert(super::ui_painter::UiPainter::new(&gpu.device, COLOR_FORMAT));
+        renderer
+            .callback_resources
+            .insert(super::ui_painter::UiPainter::new(&gpu.device, COLOR_FORMAT));
         let ctx = egui::Context::default();
         ctx.all_styles_mut(|s| {
             s.animation_time = 0.0;
@@ -147,9 +172,16 @@ impl UiRenderer {
 
     /// Runs `ui` for `passes` frames on a `size`-pixel screen (pixels per point 1; layout
     /// settles after two or three), renders the last, and reads it back.
-    pub fn render(&mut self, gpu: &Gpu, size: [u32; 2], passes: usize, mut ui: impl FnMut(&mut egui::Ui)) -> Result<RgbaImage, RenderError> {
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        size: [u32; 2],
+        passes: usize,
+        mut ui: impl FnMut(&mut egui::Ui),
+    ) -> Result<RgbaImage, RenderError> {
         gpu.check_size(size[0], size[1])?;
-        let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size[0] as f32, size[1] as f32));
+        let screen =
+            egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size[0] as f32, size[1] as f32));
         let mut output = None;
         for k in 0..passes.max(1) {
             let mut input = egui::RawInput { screen_rect: Some(screen), ..Default::default() };
@@ -174,9 +206,13 @@ impl UiRenderer {
             // What egui-wgpu draws, and what the lean painter draws for it (on lavapipe).
             let batch = super::lean_paint::last_batch(&self.ctx);
             let ours: Vec<_> = batch.iter().flat_map(|b| b.primitives().cloned()).collect();
-            self.last_stats = super::ui_stats::UiStats::of(&jobs).plus(&super::ui_stats::UiStats::of(&ours));
+            self.last_stats =
+                super::ui_stats::UiStats::of(&jobs).plus(&super::ui_stats::UiStats::of(&ours));
         }
-        let desc = egui_wgpu::ScreenDescriptor { size_in_pixels: size, pixels_per_point: output.pixels_per_point };
+        let desc = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: size,
+            pixels_per_point: output.pixels_per_point,
+        };
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ui"),
             size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 },
@@ -189,10 +225,14 @@ impl UiRenderer {
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         // The window clears to the panels' colour (they are not filled); so does this.
-        let [r, g, b, _] = self.ctx.global_style().visuals.panel_fill.to_normalized_gamma_f32().map(f64::from);
+        let [r, g, b, _] =
+            self.ctx.global_style().visuals.panel_fill.to_normalized_gamma_f32().map(f64::from);
         let clear = wgpu::Color { r, g, b, a: 1.0 };
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("ui") });
-        let extra = self.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &desc);
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("ui") });
+        let extra =
+            self.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &desc);
         {
             let mut pass = encoder
                 .begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -201,7 +241,10 @@ impl UiRenderer {
                         view: &view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(clear),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: None,
                     timestamp_writes: None,

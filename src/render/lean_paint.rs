@@ -64,7 +64,9 @@ pub fn hand_over(ctx: &egui::Context) {
         return;
     }
     let mut layers = vec![LayerId::background()];
-    layers.extend(ctx.memory(|m| m.layer_ids().filter(|l| *l != LayerId::background()).collect::<Vec<_>>()));
+    layers.extend(
+        ctx.memory(|m| m.layer_ids().filter(|l| *l != LayerId::background()).collect::<Vec<_>>()),
+    );
     // A layer moved as a whole (egui's transforms) is transformed after the frame: not ours.
     layers.retain(|l| ctx.layer_transform_to_global(*l).is_none());
 
@@ -129,7 +131,10 @@ mod tests {
 
     /// A stand-in for the 3D view's callback (not ours to draw).
     fn view3d() -> Shape {
-        Shape::Callback(PaintCallback { rect: Rect::from_min_size(pos2(10.0, 10.0), vec2(50.0, 50.0)), callback: Arc::new(7u32) })
+        Shape::Callback(PaintCallback {
+            rect: Rect::from_min_size(pos2(10.0, 10.0), vec2(50.0, 50.0)),
+            callback: Arc::new(7u32),
+        })
     }
 
     /// What each shape of a frame's output is, in drawing order: "lean" (our callback), "3d"
@@ -149,7 +154,11 @@ mod tests {
     fn frame(ctx: &egui::Context) -> Vec<ClippedShape> {
         ctx.run_ui(egui::RawInput::default(), |ui| {
             ui.label("before");
-            ui.painter().rect_filled(Rect::from_min_size(pos2(0.0, 0.0), vec2(5.0, 5.0)), 0.0, Color32::RED);
+            ui.painter().rect_filled(
+                Rect::from_min_size(pos2(0.0, 0.0), vec2(5.0, 5.0)),
+                0.0,
+                Color32::RED,
+            );
             ui.painter().add(view3d());
             ui.label("after");
             hand_over(ui.ctx());
@@ -171,7 +180,10 @@ mod tests {
         let batch = last_batch(&ctx).expect("a batch");
         assert_eq!(batch.runs.len(), 2, "one run before the 3D view, one after");
         assert!(batch.runs.iter().all(|r| !r.is_empty()));
-        assert!(batch.atlas.size[0] > 0 && batch.atlas.pixels.len() == batch.atlas.size[0] * batch.atlas.size[1]);
+        assert!(
+            batch.atlas.size[0] > 0
+                && batch.atlas.pixels.len() == batch.atlas.size[0] * batch.atlas.size[1]
+        );
 
         // Nothing new drawn: the same atlas, so the painter does not upload it again.
         let first = batch.atlas.clone();

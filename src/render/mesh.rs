@@ -89,7 +89,12 @@ impl MeshData {
                 let n0 = [sign * a0.cos(), 0.0, sign * a0.sin()];
                 let n1 = [sign * a1.cos(), 0.0, sign * a1.sin()];
                 let color = if band == 1 { mark_paint(i).unwrap_or(METAL) } else { METAL };
-                let p = [on_circle(a0, radius, lo), on_circle(a1, radius, lo), on_circle(a1, radius, hi), on_circle(a0, radius, hi)];
+                let p = [
+                    on_circle(a0, radius, lo),
+                    on_circle(a1, radius, lo),
+                    on_circle(a1, radius, hi),
+                    on_circle(a0, radius, hi),
+                ];
                 // Counter-clockwise seen from outside the surface.
                 if sign > 0.0 {
                     self.quad([p[0], p[3], p[2], p[1]], [n0, n0, n1, n1], color);
@@ -114,7 +119,12 @@ impl MeshData {
             for i in 0..SEGMENTS {
                 let (a0, a1) = (i as f32 * step, (i + 1) as f32 * step);
                 let color = if marked { mark_paint(i).unwrap_or(METAL) } else { METAL };
-                let p = [on_circle(a0, r0, y), on_circle(a0, r1, y), on_circle(a1, r1, y), on_circle(a1, r0, y)];
+                let p = [
+                    on_circle(a0, r0, y),
+                    on_circle(a0, r1, y),
+                    on_circle(a1, r1, y),
+                    on_circle(a1, r0, y),
+                ];
                 if up {
                     self.quad([p[0], p[3], p[2], p[1]], [n; 4], color);
                 } else {

@@ -19,7 +19,7 @@ pub mod ui_stats;
 pub use camera::{CameraView, OrbitCamera};
 pub use headless::{Gpu, RenderError, UiRenderer};
 pub use mesh::BodyGeometry;
-pub use pose::{BodyPose, world_from_ring};
 pub use pipelines::COLOR_FORMAT;
+pub use pose::{BodyPose, world_from_ring};
 pub use renderer::{BACKGROUND, MAX_VIEWS, SceneRenderer};
 pub use scene::{BodyDraw, SceneFrame, TraceSegment, nice_step};

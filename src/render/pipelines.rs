@@ -67,7 +67,11 @@ impl Pipelines {
 
         let main_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
-            bind_group_layouts: &[Some(&globals_layout), Some(&objects_layout), Some(&textures_layout)],
+            bind_group_layouts: &[
+                Some(&globals_layout),
+                Some(&objects_layout),
+                Some(&textures_layout),
+            ],
             immediate_size: 0,
         });
         let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -206,7 +210,10 @@ impl Pipelines {
                 buffers: &[Some(vertex_layout.clone())],
             },
             primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(true, wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 })),
+            depth_stencil: Some(depth(
+                true,
+                wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 },
+            )),
             multisample: wgpu::MultisampleState::default(),
             fragment: None,
             multiview_mask: None,
@@ -226,7 +233,12 @@ impl Pipelines {
     }
 }
 
-fn uniform_entry(binding: u32, dynamic: bool, size: u64, vis: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+fn uniform_entry(
+    binding: u32,
+    dynamic: bool,
+    size: u64,
+    vis: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: vis,
@@ -253,18 +265,16 @@ impl Blit {
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("blit"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
                 },
-            ],
+                count: None,
+            }],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("blit"),
@@ -287,7 +297,11 @@ impl Blit {
                 module: &shader,
                 entry_point: Some(if format.is_srgb() { "fs_decode" } else { "fs_copy" }),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
             }),
             multiview_mask: None,
             cache: None,
@@ -299,7 +313,10 @@ impl Blit {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("blit"),
             layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(view) }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(view),
+            }],
         })
     }
 }

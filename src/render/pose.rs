@@ -40,7 +40,12 @@ impl BodyPose {
         let c = DVec3::new(s.x_c(), s.y_c(), s.z_c);
         let world_from_ring = world_from_ring(s.phi(), s.theta(), s.psi(), c);
         let a = world_from_ring.transform_point3(Vec3::new(0.0, 0.5 * body.h as f32, 0.0));
-        BodyPose { world_from_ring, contact: Vec2::new(s.x_p as f32, s.y_p as f32), point_a: a, center: c.as_vec3() }
+        BodyPose {
+            world_from_ring,
+            contact: Vec2::new(s.x_p as f32, s.y_p as f32),
+            point_a: a,
+            center: c.as_vec3(),
+        }
     }
 }
 
@@ -89,7 +94,10 @@ mod tests {
             let p = frame.transform_point3(Vec3::new(0.0, -0.5 * b.h as f32, -b.r as f32));
             assert!(p.z.abs() < 1e-5, "contact at z = {} (t = {})", p.z, s.t);
             assert!((p.truncate() - pose.contact).length() < 1e-4);
-            assert!((pose.point_a.x - s.x_a as f32).abs() < 1e-4 && (pose.point_a.y - s.y_a as f32).abs() < 1e-4);
+            assert!(
+                (pose.point_a.x - s.x_a as f32).abs() < 1e-4
+                    && (pose.point_a.y - s.y_a as f32).abs() < 1e-4
+            );
             // From the angles and A alone, as a recording gives them: the same pose.
             let from_a = BodyPose::on_table(s.phi(), s.theta(), s.psi(), [s.x_a, s.y_a], b);
             assert!(from_a.world_from_ring.abs_diff_eq(pose.world_from_ring, 1e-4), "t = {}", s.t);

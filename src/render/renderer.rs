@@ -80,7 +80,6 @@ struct Target {
     blit_group: Option<wgpu::BindGroup>,
 }
 
-
 /// What one view needs of its own: several views are prepared before any is drawn, so each
 /// has its own uniforms, traces and target.
 struct Slot {
@@ -117,7 +116,11 @@ impl SceneRenderer {
         let pipes = Pipelines::new(device, size_of::<Globals>() as u64);
         let shadow = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow map"),
-            size: wgpu::Extent3d { width: SHADOW_SIZE, height: SHADOW_SIZE, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: SHADOW_SIZE,
+                height: SHADOW_SIZE,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -139,8 +142,14 @@ impl SceneRenderer {
             label: Some("shadow map"),
             layout: &pipes.textures_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow_view) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&shadow_sampler) },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&shadow_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                },
             ],
         });
         let blit = output_format.map(|f| Blit::new(device, f));
@@ -281,19 +290,30 @@ impl SceneRenderer {
 
         // The shadow map covers the bodies (their centres and a margin for their size).
         let n = frame.bodies.len().max(1) as f32;
-        let centre = frame.bodies.iter().map(|b| b.world_from_ring.w_axis.truncate()).sum::<Vec3>() / n;
+        let centre =
+            frame.bodies.iter().map(|b| b.world_from_ring.w_axis.truncate()).sum::<Vec3>() / n;
         let centre = Vec3::new(centre.x, centre.y, 0.0);
         let reach = frame
             .bodies
             .iter()
             .map(|b| {
                 let c = b.world_from_ring.w_axis.truncate();
-                Vec3::new(c.x - centre.x, c.y - centre.y, 0.0).length() + b.geometry.r + b.geometry.h
+                Vec3::new(c.x - centre.x, c.y - centre.y, 0.0).length()
+                    + b.geometry.r
+                    + b.geometry.h
             })
             .fold(scale, f32::max)
             * 1.4;
-        let light_view = glam::camera::rh::view::look_at_mat4(centre + light * 4.0 * reach, centre, Vec3::Z);
-        let light_proj = glam::camera::rh::proj::directx::orthographic(-reach, reach, -reach, reach, 0.01 * reach, 8.0 * reach);
+        let light_view =
+            glam::camera::rh::view::look_at_mat4(centre + light * 4.0 * reach, centre, Vec3::Z);
+        let light_proj = glam::camera::rh::proj::directx::orthographic(
+            -reach,
+            reach,
+            -reach,
+            reach,
+            0.01 * reach,
+            8.0 * reach,
+        );
         let light_view_proj = light_proj * light_view;
 
         let mut contacts = [[0.0f32; 4]; 2];
@@ -318,14 +338,25 @@ impl SceneRenderer {
             table_srgb: {
                 // As the table shader lit it: ambient plus the sun from its height.
                 let lit = 0.45 + 0.6 * light.z;
-                [srgb_encode(TABLE_COLOR[0] * lit), srgb_encode(TABLE_COLOR[1] * lit * 0.96), srgb_encode(TABLE_COLOR[2] * lit * 0.90), 1.0]
+                [
+                    srgb_encode(TABLE_COLOR[0] * lit),
+                    srgb_encode(TABLE_COLOR[1] * lit * 0.96),
+                    srgb_encode(TABLE_COLOR[2] * lit * 0.90),
+                    1.0,
+                ]
             },
-            background_srgb: [srgb_encode(BACKGROUND[0]), srgb_encode(BACKGROUND[1]), srgb_encode(BACKGROUND[2]), 1.0],
+            background_srgb: [
+                srgb_encode(BACKGROUND[0]),
+                srgb_encode(BACKGROUND[1]),
+                srgb_encode(BACKGROUND[2]),
+                1.0,
+            ],
         };
         queue.write_buffer(&self.slots[slot].globals, 0, bytemuck::bytes_of(&globals));
 
         // Object 0: the table, a square centred under the focus; then the bodies.
-        let table_model = Mat4::from_translation(frame.focus.extend(0.0)) * Mat4::from_scale(Vec3::splat(fade_radius));
+        let table_model = Mat4::from_translation(frame.focus.extend(0.0))
+            * Mat4::from_scale(Vec3::splat(fade_radius));
         let mut objects = vec![ObjectUniform {
             model: table_model.to_cols_array_2d(),
             color: Vec3::from(TABLE_COLOR).extend(1.0).to_array(),
@@ -367,7 +398,10 @@ impl SceneRenderer {
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.shadow_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -392,7 +426,10 @@ impl SceneRenderer {
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &target.depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -423,7 +460,11 @@ impl SceneRenderer {
     fn draw_bodies(&self, pass: &mut wgpu::RenderPass<'_>, view: &Slot, meshes: &[usize]) {
         for (k, &m) in meshes.iter().enumerate() {
             let mesh = &self.bodies[m].1;
-            pass.set_bind_group(1, &view.objects_group, &[(k as u64 + 1) as u32 * OBJECT_STRIDE as u32]);
+            pass.set_bind_group(
+                1,
+                &view.objects_group,
+                &[(k as u64 + 1) as u32 * OBJECT_STRIDE as u32],
+            );
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.count, 0, 0..1);
@@ -433,7 +474,8 @@ impl SceneRenderer {
     /// Draws view `slot`'s last frame into `pass` (egui's, whose viewport is the 3D view).
     pub fn paint(&self, slot: usize, pass: &mut wgpu::RenderPass<'_>) {
         let target = self.slots.get(slot).and_then(|s| s.target.as_ref());
-        let (Some(blit), Some(group)) = (&self.blit, target.and_then(|t| t.blit_group.as_ref())) else {
+        let (Some(blit), Some(group)) = (&self.blit, target.and_then(|t| t.blit_group.as_ref()))
+        else {
             return;
         };
         pass.set_pipeline(&blit.pipeline);

@@ -33,7 +33,13 @@ pub struct TraceSegment {
 }
 
 impl TraceSegment {
-    pub fn new(a: Vec2, b: Vec2, color: [f32; 4], half_width: f32, min_half_px: f32) -> TraceSegment {
+    pub fn new(
+        a: Vec2,
+        b: Vec2,
+        color: [f32; 4],
+        half_width: f32,
+        min_half_px: f32,
+    ) -> TraceSegment {
         TraceSegment { ab: [a.x, a.y, b.x, b.y], color, extra: [half_width, min_half_px] }
     }
 }

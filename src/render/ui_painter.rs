@@ -77,14 +77,23 @@ impl UiPainter {
             label: Some("ui.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/ui.wgsl").into()),
         });
-        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None };
+        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty,
+            count: None,
+        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ui"),
             entries: &[
                 entry(
                     0,
                     wgpu::ShaderStages::VERTEX,
-                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
                 ),
                 entry(
                     1,
@@ -95,7 +104,11 @@ impl UiPainter {
                         multisampled: false,
                     },
                 ),
-                entry(2, wgpu::ShaderStages::FRAGMENT, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+                entry(
+                    2,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -137,7 +150,11 @@ impl UiPainter {
                 module: &shader,
                 entry_point: Some(if format.is_srgb() { "fs_ui_srgb" } else { "fs_ui" }),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState { format, blend: Some(blend), write_mask: wgpu::ColorWrites::ALL })],
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: Some(blend),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
             }),
             multiview_mask: None,
             cache: None,
@@ -155,7 +172,18 @@ impl UiPainter {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        UiPainter { pipeline, layout, sampler, screen, group: None, atlas: None, vertices: None, indices: None, uploaded: None, draws: Vec::new() }
+        UiPainter {
+            pipeline,
+            layout,
+            sampler,
+            screen,
+            group: None,
+            atlas: None,
+            vertices: None,
+            indices: None,
+            uploaded: None,
+            draws: Vec::new(),
+        }
     }
 
     fn upload_atlas(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, atlas: &Arc<AtlasCopy>) {
@@ -179,9 +207,18 @@ impl UiPainter {
         });
         if atlas.pixels.len() == (w * h) as usize {
             queue.write_texture(
-                wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
                 bytemuck::cast_slice(&atlas.pixels),
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * w), rows_per_image: Some(h) },
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * w),
+                    rows_per_image: Some(h),
+                },
                 size,
             );
         }
@@ -191,21 +228,38 @@ impl UiPainter {
             layout: &self.layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: self.screen.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
             ],
         }));
         self.atlas = Some((atlas.clone(), texture));
     }
 
     /// Uploads every run of `batch` (once per batch: its first callback does it for all).
-    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, screen: &ScreenDescriptor, batch: &Arc<UiBatch>) {
+    fn upload(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        screen: &ScreenDescriptor,
+        batch: &Arc<UiBatch>,
+    ) {
         if self.uploaded.as_ref().is_some_and(|b| Arc::ptr_eq(b, batch)) {
             return;
         }
         self.upload_atlas(device, queue, &batch.atlas);
         let ppp = screen.pixels_per_point.max(1e-3);
-        let size_points = [screen.size_in_pixels[0] as f32 / ppp, screen.size_in_pixels[1] as f32 / ppp, 0.0, 0.0];
+        let size_points = [
+            screen.size_in_pixels[0] as f32 / ppp,
+            screen.size_in_pixels[1] as f32 / ppp,
+            0.0,
+            0.0,
+        ];
         queue.write_buffer(&self.screen, 0, bytemuck::cast_slice(&size_points));
 
         let mut vertices: Vec<egui::epaint::Vertex> = Vec::new();
@@ -229,16 +283,38 @@ impl UiPainter {
             }
             self.draws.push(draws);
         }
-        write_growing(device, queue, &mut self.vertices, bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX, "ui vertices");
-        write_growing(device, queue, &mut self.indices, bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX, "ui indices");
+        write_growing(
+            device,
+            queue,
+            &mut self.vertices,
+            bytemuck::cast_slice(&vertices),
+            wgpu::BufferUsages::VERTEX,
+            "ui vertices",
+        );
+        write_growing(
+            device,
+            queue,
+            &mut self.indices,
+            bytemuck::cast_slice(&indices),
+            wgpu::BufferUsages::INDEX,
+            "ui indices",
+        );
         self.uploaded = Some(batch.clone());
     }
 
-    fn paint(&self, batch: &Arc<UiBatch>, run: usize, info: &egui::PaintCallbackInfo, pass: &mut wgpu::RenderPass<'static>) {
+    fn paint(
+        &self,
+        batch: &Arc<UiBatch>,
+        run: usize,
+        info: &egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+    ) {
         if !self.uploaded.as_ref().is_some_and(|b| Arc::ptr_eq(b, batch)) {
             return;
         }
-        let (Some(group), Some(vertices), Some(indices), Some(draws)) = (&self.group, &self.vertices, &self.indices, self.draws.get(run)) else {
+        let (Some(group), Some(vertices), Some(indices), Some(draws)) =
+            (&self.group, &self.vertices, &self.indices, self.draws.get(run))
+        else {
             return;
         };
         let [w, h] = info.screen_size_px;
@@ -248,7 +324,9 @@ impl UiPainter {
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         for d in draws {
-            let Some([x, y, sw, sh]) = scissor(d.clip, info.pixels_per_point, [w, h]) else { continue };
+            let Some([x, y, sw, sh]) = scissor(d.clip, info.pixels_per_point, [w, h]) else {
+                continue;
+            };
             pass.set_scissor_rect(x, y, sw, sh);
             pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, 0..1);
         }
@@ -265,7 +343,14 @@ fn scissor(clip: egui::Rect, ppp: f32, screen: [u32; 2]) -> Option<[u32; 4]> {
 }
 
 /// Writes `data` into `buffer`, replacing it by one twice as large when it does not fit.
-fn write_growing(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &mut Option<wgpu::Buffer>, data: &[u8], usage: wgpu::BufferUsages, label: &str) {
+fn write_growing(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &mut Option<wgpu::Buffer>,
+    data: &[u8],
+    usage: wgpu::BufferUsages,
+    label: &str,
+) {
     // Buffer sizes and writes go in multiples of 4 bytes.
     let needed = (data.len() as u64).div_ceil(4) * 4;
     if buffer.as_ref().is_none_or(|b| b.size() < needed.max(4)) {
@@ -302,7 +387,12 @@ impl CallbackTrait for BatchCallback {
         Vec::new()
     }
 
-    fn paint(&self, info: egui::PaintCallbackInfo, pass: &mut wgpu::RenderPass<'static>, resources: &CallbackResources) {
+    fn paint(
+        &self,
+        info: egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+        resources: &CallbackResources,
+    ) {
         if let Some(p) = resources.get::<UiPainter>() {
             p.paint(&self.batch, self.run, &info, pass);
         }
@@ -318,7 +408,10 @@ mod tests {
     fn scissors_are_clamped_to_the_screen_and_empty_ones_dropped() {
         let r = Rect::from_min_max(pos2(-5.0, 10.0), pos2(50.0, 500.0));
         assert_eq!(scissor(r, 2.0, [80, 600]), Some([0, 20, 80, 580]));
-        assert_eq!(scissor(Rect::from_min_max(pos2(90.0, 0.0), pos2(95.0, 5.0)), 1.0, [80, 600]), None);
+        assert_eq!(
+            scissor(Rect::from_min_max(pos2(90.0, 0.0), pos2(95.0, 5.0)), 1.0, [80, 600]),
+            None
+        );
         assert_eq!(scissor(Rect::NOTHING, 1.0, [80, 600]), None);
     }
 }

@@ -85,7 +85,8 @@ fn blocks_touched(tri: [Pos2; 3], clip: egui::Rect) -> usize {
     while by < hi.y {
         let mut bx = (lo.x / 4.0).floor() * 4.0;
         while bx < hi.x {
-            let hit = (0..16).any(|k| inside(egui::pos2(bx + (k % 4) as f32 + 0.5, by + (k / 4) as f32 + 0.5)));
+            let hit = (0..16)
+                .any(|k| inside(egui::pos2(bx + (k % 4) as f32 + 0.5, by + (k / 4) as f32 + 0.5)));
             n += usize::from(hit);
             bx += 4.0;
         }
@@ -102,13 +103,22 @@ mod tests {
     fn a_sliver_touches_many_more_blocks_than_a_square_of_its_area() {
         let clip = egui::Rect::from_min_size(Pos2::ZERO, egui::vec2(1000.0, 1000.0));
         // 64 x 64 pixel square's half: 2048 pixels, 16 x 16 blocks' half plus the diagonal.
-        let square = blocks_touched([egui::pos2(0.0, 0.0), egui::pos2(64.0, 0.0), egui::pos2(0.0, 64.0)], clip);
+        let square = blocks_touched(
+            [egui::pos2(0.0, 0.0), egui::pos2(64.0, 0.0), egui::pos2(0.0, 64.0)],
+            clip,
+        );
         assert!((136..=160).contains(&square), "{square}");
         // A sliver 640 pixels long and 3 high at one end: 960 pixels over some 130 blocks.
-        let sliver = blocks_touched([egui::pos2(0.0, 0.0), egui::pos2(640.0, 0.0), egui::pos2(0.0, 3.0)], clip);
+        let sliver = blocks_touched(
+            [egui::pos2(0.0, 0.0), egui::pos2(640.0, 0.0), egui::pos2(0.0, 3.0)],
+            clip,
+        );
         assert!(sliver >= 120, "{sliver}");
         // Clipped away: nothing.
-        let outside = blocks_touched([egui::pos2(2000.0, 0.0), egui::pos2(2064.0, 0.0), egui::pos2(2000.0, 64.0)], clip);
+        let outside = blocks_touched(
+            [egui::pos2(2000.0, 0.0), egui::pos2(2064.0, 0.0), egui::pos2(2000.0, 64.0)],
+            clip,
+        );
         assert_eq!(outside, 0);
     }
 }

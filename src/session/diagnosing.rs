@@ -1,10 +1,12 @@
 //! The diagnosis as the window runs it (`analysis::diagnose` with its default options), and
 //! the models it found as cases the simulator can adopt.
 
-use crate::analysis::diagnose::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, Diagnosis, diagnose};
+use super::job::{JobContext, Progress};
+use crate::analysis::diagnose::{
+    DiagnoseError, DiagnoseOptions, DiagnoseProgress, Diagnosis, diagnose,
+};
 use crate::config::CaseFile;
 use crate::recording::Recording;
-use super::job::{JobContext, Progress};
 use std::sync::Mutex;
 
 /// A diagnosis done, with the cases of its two models (or why one cannot run).
@@ -25,7 +27,12 @@ impl Diagnosed {
 
     /// The mismatch window on the display's clock (s from the model's start), given the
     /// session's offset: recording times count from frame 0 of the camera.
-    pub fn mismatch_display_s(&self, first_frame: u64, fps: f64, offset_s: f64) -> Option<(f64, f64)> {
+    pub fn mismatch_display_s(
+        &self,
+        first_frame: u64,
+        fps: f64,
+        offset_s: f64,
+    ) -> Option<(f64, f64)> {
         let m = self.result.mismatch.as_ref()?;
         let shift = first_frame as f64 / fps + offset_s;
         Some((m.start_s - shift, m.end_s - shift))
@@ -34,7 +41,11 @@ impl Diagnosed {
 
 /// The diagnosis on its job: the stages' progress as one bar that never goes back; on its own
 /// pool of all cores but one, so that the window and the integrator keep one.
-pub(super) fn run_diagnose(rec: &Recording, ctx: &JobContext, own_pool: bool) -> Result<Diagnosis, DiagnoseError> {
+pub(super) fn run_diagnose(
+    rec: &Recording,
+    ctx: &JobContext,
+    own_pool: bool,
+) -> Result<Diagnosis, DiagnoseError> {
     let shown = Mutex::new(0.0f32);
     let progress = |p: &DiagnoseProgress| {
         let mut fraction = (p.fraction as f32).clamp(0.0, 1.0);
@@ -45,8 +56,13 @@ pub(super) fn run_diagnose(rec: &Recording, ctx: &JobContext, own_pool: bool) ->
         ctx.report(Progress { fraction, text: p.message.clone() });
     };
     let opts = DiagnoseOptions::default();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
-    let pool = if own_pool { rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok() } else { None };
+    let threads =
+        std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
+    let pool = if own_pool {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok()
+    } else {
+        None
+    };
     match pool {
         Some(pool) => pool.install(|| diagnose(rec, &opts, &progress, ctx.cancel_flag())),
         None => diagnose(rec, &opts, &progress, ctx.cancel_flag()),

@@ -60,10 +60,11 @@ fn catch_rfd_log() -> bool {
 /// `instead` says what the user can do without one.
 fn failure(lines: &[String], instead: &str) -> Option<String> {
     // rfd logs "Failed to pick file with zenity: ..." (or "save file") when its last fallback failed.
-    lines
-        .iter()
-        .any(|l| l.contains("zenity") && l.contains("Failed"))
-        .then(|| format!("no file dialog is available here (it needs an XDG desktop portal or zenity): {instead}"))
+    lines.iter().any(|l| l.contains("zenity") && l.contains("Failed")).then(|| {
+        format!(
+            "no file dialog is available here (it needs an XDG desktop portal or zenity): {instead}"
+        )
+    })
 }
 
 /// One dialog: to open a file, or to save one under a name.
@@ -89,7 +90,10 @@ pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome
             v.clear();
         }
         let (name, extensions) = &request.filter;
-        let mut dialog = rfd::FileDialog::new().set_title(&request.title).add_filter(name, extensions).add_filter("all files", &["*"]);
+        let mut dialog = rfd::FileDialog::new()
+            .set_title(&request.title)
+            .add_filter(name, extensions)
+            .add_filter("all files", &["*"]);
         if let Some(folder) = &request.folder {
             dialog = dialog.set_directory(folder);
         }
@@ -101,7 +105,8 @@ pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome
             Some(p) => DialogOutcome::Picked(p),
             None => {
                 let lines = RFD_LOG.lock().map(|v| v.clone()).unwrap_or_default();
-                failure(&lines, &request.instead).map_or(DialogOutcome::Cancelled, DialogOutcome::Unavailable)
+                failure(&lines, &request.instead)
+                    .map_or(DialogOutcome::Cancelled, DialogOutcome::Unavailable)
             }
         }
     })
@@ -113,7 +118,10 @@ pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
         background,
         DialogRequest {
             title: "Open a recording (format v1) or a tracker's file".into(),
-            filter: ("recordings and trackers' files".into(), ["csv", "trk", "txt", "tsv"].map(String::from).to_vec()),
+            filter: (
+                "recordings and trackers' files".into(),
+                ["csv", "trk", "txt", "tsv"].map(String::from).to_vec(),
+            ),
             save_as: None,
             folder: None,
             instead: "drop the .csv file onto the window instead".into(),
@@ -127,8 +135,13 @@ mod tests {
 
     #[test]
     fn a_failed_zenity_fallback_means_no_dialog() {
-        let lines = vec!["Using zenity fallback".to_string(), "Failed to pick file with zenity: No such file or directory".to_string()];
-        assert!(failure(&lines, "drop the .csv file").is_some_and(|m| m.contains("drop the .csv file")));
+        let lines = vec![
+            "Using zenity fallback".to_string(),
+            "Failed to pick file with zenity: No such file or directory".to_string(),
+        ];
+        assert!(
+            failure(&lines, "drop the .csv file").is_some_and(|m| m.contains("drop the .csv file"))
+        );
         assert_eq!(failure(&["Using zenity fallback".to_string()], "x"), None);
         assert_eq!(failure(&[], "x"), None);
     }

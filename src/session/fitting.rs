@@ -1,13 +1,18 @@
 //! The fit as the window runs it, and its progress in words and as a share of the whole.
 
+use super::job::{JobContext, Progress};
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, fit};
 use crate::recording::Recording;
-use super::job::{JobContext, Progress};
 use std::sync::Mutex;
 
 /// The stages of a fit as shares of its progress bar (rough shares of the time on the sample).
-const STAGE_SHARES: [(FitStage, f32); 5] =
-    [(FitStage::Recover, 0.03), (FitStage::StartState, 0.07), (FitStage::Sweep, 0.35), (FitStage::Segments, 0.15), (FitStage::Refine, 0.40)];
+const STAGE_SHARES: [(FitStage, f32); 5] = [
+    (FitStage::Recover, 0.03),
+    (FitStage::StartState, 0.07),
+    (FitStage::Sweep, 0.35),
+    (FitStage::Segments, 0.15),
+    (FitStage::Refine, 0.40),
+];
 
 /// Where a fit is, as a share of the whole and in words.
 pub fn describe_fit_progress(p: &FitProgress) -> Progress {
@@ -23,7 +28,11 @@ pub fn describe_fit_progress(p: &FitProgress) -> Progress {
 
 /// The fit as the window runs it: default options; on its own pool of all cores but one, so
 /// that the window and the integrator keep one.
-pub(super) fn run_fit(rec: &Recording, ctx: &JobContext, own_pool: bool) -> Result<FitResult, FitError> {
+pub(super) fn run_fit(
+    rec: &Recording,
+    ctx: &JobContext,
+    own_pool: bool,
+) -> Result<FitResult, FitError> {
     // The stages repeat (segments, then least squares per merge): the bar never goes back.
     let shown = Mutex::new(0.0f32);
     let progress = |p: &FitProgress| {
@@ -35,8 +44,13 @@ pub(super) fn run_fit(rec: &Recording, ctx: &JobContext, own_pool: bool) -> Resu
         ctx.report(d);
     };
     let opts = FitOptions::default();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
-    let pool = if own_pool { rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok() } else { None };
+    let threads =
+        std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
+    let pool = if own_pool {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok()
+    } else {
+        None
+    };
     match pool {
         Some(pool) => pool.install(|| fit(rec, &opts, &progress, ctx.cancel_flag())),
         None => fit(rec, &opts, &progress, ctx.cancel_flag()),
@@ -49,7 +63,9 @@ mod tests {
 
     #[test]
     fn the_stages_fill_the_bar_in_order() {
-        let at = |stage, done, total| describe_fit_progress(&FitProgress { stage, done, total, rms_px: None }).fraction;
+        let at = |stage, done, total| {
+            describe_fit_progress(&FitProgress { stage, done, total, rms_px: None }).fraction
+        };
         let steps = [
             at(FitStage::Recover, 0, 1),
             at(FitStage::StartState, 0, 1),
@@ -60,7 +76,16 @@ mod tests {
         assert!(steps.windows(2).all(|w| w[1] > w[0]), "{steps:?}");
         assert_eq!(steps[0], 0.0);
         assert!((steps[4] - 1.0).abs() < 1e-6);
-        let p = describe_fit_progress(&FitProgress { stage: FitStage::Refine, done: 3, total: 30, rms_px: Some(0.512) });
-        assert!(p.text.contains("least squares (3/30)") && p.text.contains("0.512 px"), "{}", p.text);
+        let p = describe_fit_progress(&FitProgress {
+            stage: FitStage::Refine,
+            done: 3,
+            total: 30,
+            rms_px: Some(0.512),
+        });
+        assert!(
+            p.text.contains("least squares (3/30)") && p.text.contains("0.512 px"),
+            "{}",
+            p.text
+        );
     }
 }

@@ -61,7 +61,11 @@ pub struct Job<T> {
 impl<T: Send + 'static> Job<T> {
     /// Starts `work` on a thread of its own (`background`), or runs it here and now. Where no
     /// thread can be had it runs here too.
-    pub fn start(name: &str, background: bool, work: impl FnOnce(&JobContext) -> T + Send + 'static) -> Job<T> {
+    pub fn start(
+        name: &str,
+        background: bool,
+        work: impl FnOnce(&JobContext) -> T + Send + 'static,
+    ) -> Job<T> {
         let ctx = JobContext::default();
         if background {
             let (tx, rx) = mpsc::channel();

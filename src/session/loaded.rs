@@ -3,11 +3,13 @@
 
 use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::FitResult;
-use crate::config::{BodySection, CaseFile, DragSection, EffectsSection, InitialSection, RunSection, UnitsSection};
+use crate::config::{
+    BodySection, CaseFile, DragSection, EffectsSection, InitialSection, RunSection, UnitsSection,
+};
 use crate::physics::model::ix;
 use crate::physics::{Body, EffectKind, Initial, Units, paper};
-use crate::recording::recover::{FrameMotion, RecoverError};
 use crate::recording::import::{Format, ImportError, ImportOptions, ImportReport, import};
+use crate::recording::recover::{FrameMotion, RecoverError};
 use crate::recording::{Recording, RecoveredMotion, recover};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -39,16 +41,28 @@ impl LoadedRecording {
     }
 
     /// Reads any file `ringlab import` reads, with what the file does not say in `opts`.
-    pub fn import(path: &Path, format: Option<Format>, opts: &ImportOptions) -> Result<LoadedRecording, LoadError> {
+    pub fn import(
+        path: &Path,
+        format: Option<Format>,
+        opts: &ImportOptions,
+    ) -> Result<LoadedRecording, LoadError> {
         let imported = import(&[path.to_path_buf()], format, opts)?;
         let recording = imported.recording;
-        let motion = recover(&recording).map_err(|source| LoadError::Recover { path: path.to_path_buf(), source })?;
-        Ok(LoadedRecording { path: path.to_path_buf(), recording: Arc::new(recording), motion, import: imported.report })
+        let motion = recover(&recording)
+            .map_err(|source| LoadError::Recover { path: path.to_path_buf(), source })?;
+        Ok(LoadedRecording {
+            path: path.to_path_buf(),
+            recording: Arc::new(recording),
+            motion,
+            import: imported.report,
+        })
     }
 
     /// The file's name, for labels.
     pub fn name(&self) -> String {
-        self.path.file_name().map_or_else(|| self.path.display().to_string(), |n| n.to_string_lossy().into_owned())
+        self.path
+            .file_name()
+            .map_or_else(|| self.path.display().to_string(), |n| n.to_string_lossy().into_owned())
     }
 
     pub fn fps(&self) -> f64 {
@@ -76,8 +90,16 @@ impl LoadedRecording {
 
     /// A case file for a model of this recording's body (model units) with drag `c` and
     /// start `initial`.
-    fn case_file(&self, name: String, description: String, c: [f64; 3], initial: &Initial, t_end: f64) -> Result<CaseFile, String> {
-        let body: Body = self.motion.body_model().map_err(|e| format!("the recording's body: {e}"))?;
+    fn case_file(
+        &self,
+        name: String,
+        description: String,
+        c: [f64; 3],
+        initial: &Initial,
+        t_end: f64,
+    ) -> Result<CaseFile, String> {
+        let body: Body =
+            self.motion.body_model().map_err(|e| format!("the recording's body: {e}"))?;
         self.case_file_with(name, description, (body, EffectsSection::default()), c, initial, t_end)
     }
 
@@ -96,8 +118,17 @@ impl LoadedRecording {
             name,
             description,
             source: self.path.display().to_string(),
-            units: UnitsSection { system: "model".into(), mean_radius_mm: Some(u.length_mm), g: Some(u.g()) },
-            body: BodySection { shape: body.shape.name().into(), outer_radius: body.r, width: body.h, thickness: Some(body.w) },
+            units: UnitsSection {
+                system: "model".into(),
+                mean_radius_mm: Some(u.length_mm),
+                g: Some(u.g()),
+            },
+            body: BodySection {
+                shape: body.shape.name().into(),
+                outer_radius: body.r,
+                width: body.h,
+                thickness: Some(body.w),
+            },
             drag: DragSection { c },
             initial: InitialSection {
                 theta: initial.theta,
@@ -128,18 +159,28 @@ impl LoadedRecording {
     pub fn start_case(&self) -> Result<(CaseFile, usize), String> {
         let m = &self.motion;
         let f0 = m.first_inner_turn.map_or(0, |p| p.at.round().max(0.0) as usize);
-        let found = (0..6)
-            .flat_map(|d| [f0 + d, f0.saturating_sub(d)])
-            .find_map(|j| m.state(j, 4, false).or_else(|| m.turning_point_state(j, false)).map(|y| (j, y)));
+        let found = (0..6).flat_map(|d| [f0 + d, f0.saturating_sub(d)]).find_map(|j| {
+            m.state(j, 4, false).or_else(|| m.turning_point_state(j, false)).map(|y| (j, y))
+        });
         let Some((j, mut y)) = found else {
-            return Err("no start state could be reconstructed near the first inner turning point".into());
+            return Err(
+                "no start state could be reconstructed near the first inner turning point".into()
+            );
         };
         // A turning point: theta' = 0 there (the rates from a few noisy poses say otherwise
         // by their noise, and at the first frame they are one-sided).
         y[ix::W1] = 0.0;
         let name = format!("{}, not fitted", self.name());
-        let description = format!("the recording's body, started at frame {j} from the poses; the paper's drag (not fitted)");
-        let file = self.case_file(name, description, paper::C_RING, &Initial::from_state(&y), self.t_end_model())?;
+        let description = format!(
+            "the recording's body, started at frame {j} from the poses; the paper's drag (not fitted)"
+        );
+        let file = self.case_file(
+            name,
+            description,
+            paper::C_RING,
+            &Initial::from_state(&y),
+            self.t_end_model(),
+        )?;
         Ok((file, j))
     }
 
@@ -154,9 +195,17 @@ impl LoadedRecording {
     /// fitted, its drag, start state and effect. The camera's distortion is no physics: its
     /// model runs as the paper's.
     pub fn diagnosed_case(&self, m: &ModelFit) -> Result<CaseFile, String> {
-        let what = if m.effect == EffectKind::None { "baseline".to_string() } else { format!("with {}", m.effect) };
+        let what = if m.effect == EffectKind::None {
+            "baseline".to_string()
+        } else {
+            format!("with {}", m.effect)
+        };
         let name = format!("{}, diagnosed ({what})", self.name());
-        let description = format!("the diagnosis's model of {} ({what}): rms {:.3} px over the whole run", self.name(), m.rms_px);
+        let description = format!(
+            "the diagnosis's model of {} ({what}): rms {:.3} px over the whole run",
+            self.name(),
+            m.rms_px
+        );
         let e = &m.model.effects;
         let effects = EffectsSection {
             reynolds_drag: e.reynolds_drag.map(|r| [r.re_ref, r.exponent, r.max_factor]),
@@ -165,6 +214,13 @@ impl LoadedRecording {
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
         };
-        self.case_file_with(name, description, (m.model.body.clone(), effects), m.c, &m.start, self.t_end_model())
+        self.case_file_with(
+            name,
+            description,
+            (m.model.body.clone(), effects),
+            m.c,
+            &m.start,
+            self.t_end_model(),
+        )
     }
 }

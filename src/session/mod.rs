@@ -20,15 +20,15 @@ pub use diagnosing::Diagnosed;
 pub use fitting::describe_fit_progress;
 pub use loaded::{LoadError, LoadedRecording};
 
-use file_dialog::{DialogOutcome, pick_recording};
-pub use job::{Job, JobContext, JobLost, Progress};
 use crate::analysis::diagnose::{DiagnoseError, Diagnosis};
 use crate::analysis::fit::{FitError, FitResult};
 use crate::config::CaseFile;
 use crate::recording::import::{Format, ImportError, ImportOptions};
 use crate::recording::recover::{Angles, FrameMotion};
 use diagnosing::run_diagnose;
+use file_dialog::{DialogOutcome, pick_recording};
 use fitting::run_fit;
+pub use job::{Job, JobContext, JobLost, Progress};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -172,7 +172,10 @@ impl RecordingSession {
 
     /// Whether anything runs that the window should redraw for.
     pub fn busy(&self) -> bool {
-        self.loading.is_some() || self.fitting.is_some() || self.dialog.is_some() || self.diagnosing.is_some()
+        self.loading.is_some()
+            || self.fitting.is_some()
+            || self.dialog.is_some()
+            || self.diagnosing.is_some()
     }
 
     /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
@@ -216,7 +219,8 @@ impl RecordingSession {
         self.note = None;
         let rec = Arc::clone(&l.recording);
         let background = self.background;
-        self.fitting = Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
+        self.fitting =
+            Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
     }
 
     /// Asks a running fit to stop.
@@ -235,7 +239,9 @@ impl RecordingSession {
         self.note = None;
         let rec = Arc::clone(&l.recording);
         let background = self.background;
-        self.diagnosing = Some(Job::start("diagnose", background, move |ctx| run_diagnose(&rec, ctx, background)));
+        self.diagnosing = Some(Job::start("diagnose", background, move |ctx| {
+            run_diagnose(&rec, ctx, background)
+        }));
     }
 
     /// Asks a running diagnosis to stop.
@@ -275,16 +281,27 @@ impl RecordingSession {
                 Ok(DialogOutcome::Picked(p)) => self.open(p),
                 Ok(DialogOutcome::Cancelled) => {}
                 Ok(DialogOutcome::Unavailable(why)) => self.note = Some(why),
-                Err(JobLost) => self.note = Some("the file dialog failed: drop the .csv file onto the window instead".into()),
+                Err(JobLost) => {
+                    self.note = Some(
+                        "the file dialog failed: drop the .csv file onto the window instead".into(),
+                    )
+                }
             }
         }
         if let Some(done) = self.loading.as_mut().and_then(|(_, j)| j.poll()) {
             let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
             match done {
                 Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
-                Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => self.pending_import = Some(PendingImport { path, error: e }),
+                Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => {
+                    self.pending_import = Some(PendingImport { path, error: e })
+                }
                 Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
-                Err(JobLost) => self.error = Some(format!("Could not open the recording {}: reading it failed unexpectedly", path.display())),
+                Err(JobLost) => {
+                    self.error = Some(format!(
+                        "Could not open the recording {}: reading it failed unexpectedly",
+                        path.display()
+                    ))
+                }
             }
         }
         if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
@@ -306,7 +323,9 @@ impl RecordingSession {
                         self.diagnosed = Some(Diagnosed { result: d, baseline, improved });
                     }
                 }
-                Ok(Err(DiagnoseError::Cancelled)) => self.note = Some("the diagnosis was cancelled".into()),
+                Ok(Err(DiagnoseError::Cancelled)) => {
+                    self.note = Some("the diagnosis was cancelled".into())
+                }
                 Ok(Err(e)) => self.error = Some(format!("The diagnosis failed: {e}")),
                 Err(JobLost) => self.error = Some("The diagnosis stopped unexpectedly".into()),
             }
@@ -420,15 +439,23 @@ impl RecordingSession {
         let at = (seconds + self.offset_s) * l.fps();
         let i = at.floor();
         if i >= 0.0
-            && let (Some((a0, p0, s0)), Some((a1, p1, s1))) = (pose(i as usize), pose(i as usize + 1))
+            && let (Some((a0, p0, s0)), Some((a1, p1, s1))) =
+                (pose(i as usize), pose(i as usize + 1))
             && s0.is_some()
             && s0 == s1
         {
             let u = at - i;
             let mix = |x: f64, y: f64| x + (y - x) * u;
-            let angles = Angles { phi: mix(a0.phi, a1.phi), theta: mix(a0.theta, a1.theta), psi: mix(a0.psi, a1.psi) };
+            let angles = Angles {
+                phi: mix(a0.phi, a1.phi),
+                theta: mix(a0.theta, a1.theta),
+                psi: mix(a0.psi, a1.psi),
+            };
             return Some((angles, [mix(p0[0], p1[0]), mix(p0[1], p1[1])]));
         }
-        (0..=3).flat_map(|d| [k + d, k.saturating_sub(d)]).filter(|&j| j < n).find_map(|j| pose(j).map(|(a, p, _)| (a, p)))
+        (0..=3)
+            .flat_map(|d| [k + d, k.saturating_sub(d)])
+            .filter(|&j| j < n)
+            .find_map(|j| pose(j).map(|(a, p, _)| (a, p)))
     }
 }

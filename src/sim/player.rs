@@ -75,12 +75,12 @@ impl Player {
             return;
         }
         let target = self.seconds + wall_seconds * self.speed;
-        if let Some(e) = end {
-            if target >= e {
-                self.seconds = self.seconds.max(e);
-                self.playing = false;
-                return;
-            }
+        if let Some(e) = end
+            && target >= e
+        {
+            self.seconds = self.seconds.max(e);
+            self.playing = false;
+            return;
         }
         self.seconds = self.seconds.max(target.min(available));
     }

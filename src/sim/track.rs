@@ -68,14 +68,15 @@ fn replace_from(ints: &mut Intervals, t0: f64, exact: &[Interval]) {
     let mut kept = ints.until(t0);
     kept.retain(|i| i.end < t0 || i.start < t0);
     // An interval open across t0 is continued by the exact one starting at t0.
-    if let (Some(last), Some(first)) = (kept.last_mut(), exact.first()) {
-        if last.end >= t0 && first.start <= t0 {
-            last.end = first.end;
-            kept.extend_from_slice(&exact[1..]);
-            ints.closed = kept;
-            ints.open = None;
-            return;
-        }
+    if let (Some(last), Some(first)) = (kept.last_mut(), exact.first())
+        && last.end >= t0
+        && first.start <= t0
+    {
+        last.end = first.end;
+        kept.extend_from_slice(&exact[1..]);
+        ints.closed = kept;
+        ints.open = None;
+        return;
     }
     kept.extend_from_slice(exact);
     ints.closed = kept;
@@ -219,7 +220,7 @@ impl Track {
         self.lift_off.update(s.t, s.f_n <= 0.0);
         self.slip.update(s.t, s.f_n <= 0.0 || s.friction_ratio() > mu);
         self.received += 1;
-        if self.received % self.stride != 0 && self.samples.len() > 1 {
+        if !self.received.is_multiple_of(self.stride) && self.samples.len() > 1 {
             return;
         }
         if self.samples.len() >= MAX_SAMPLES {
@@ -386,7 +387,10 @@ fn angle_rates(s: &Sample) -> [f64; 3] {
 
 fn hermite(p0: f64, m0: f64, p1: f64, m1: f64, h: f64, u: f64) -> f64 {
     let (u2, u3) = (u * u, u * u * u);
-    (2.0 * u3 - 3.0 * u2 + 1.0) * p0 + (u3 - 2.0 * u2 + u) * h * m0 + (-2.0 * u3 + 3.0 * u2) * p1 + (u3 - u2) * h * m1
+    (2.0 * u3 - 3.0 * u2 + 1.0) * p0
+        + (u3 - 2.0 * u2 + u) * h * m0
+        + (-2.0 * u3 + 3.0 * u2) * p1
+        + (u3 - u2) * h * m1
 }
 
 fn blend(a: &Sample, b: &Sample, t: f64) -> Sample {
@@ -430,11 +434,14 @@ mod tests {
     use crate::config::load_preset;
 
     fn paper_case() -> Case {
-        load_preset("paper-ring").and_then(|f| f.build().map_err(|m| crate::config::ConfigError::Invalid {
-            path: "paper-ring".into(),
-            message: m,
-        }))
-        .expect("the paper-ring preset builds")
+        load_preset("paper-ring")
+            .and_then(|f| {
+                f.build().map_err(|m| crate::config::ConfigError::Invalid {
+                    path: "paper-ring".into(),
+                    message: m,
+                })
+            })
+            .expect("the paper-ring preset builds")
     }
 
     #[test]

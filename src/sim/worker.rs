@@ -9,7 +9,9 @@ use crate::physics::{Sample, Simulation, StateVec};
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvError, TrySendError};
+use std::sync::mpsc::{
+    self, Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvError, TrySendError,
+};
 use std::thread::JoinHandle;
 use std::time::Duration;
 use thiserror::Error;
@@ -276,20 +278,19 @@ fn worker(commands: Receiver<Command>, events: SyncSender<Event>, sent: &AtomicU
             continue;
         }
 
-        if let Some(r) = &mut current {
-            if r.produce(&mut pending) {
-                if let Some(r) = current.take() {
-                    let run = r.run;
-                    let summary = r.sim.finish();
-                    let end = RunEnd {
-                        reason: summary.end_reason,
-                        t_end: summary.t_end,
-                        lift_off: summary.lift_off,
-                        slip: summary.slip,
-                    };
-                    pending.push_back(Event::Ended { run, end });
-                }
-            }
+        if let Some(r) = &mut current
+            && r.produce(&mut pending)
+            && let Some(r) = current.take()
+        {
+            let run = r.run;
+            let summary = r.sim.finish();
+            let end = RunEnd {
+                reason: summary.end_reason,
+                t_end: summary.t_end,
+                lift_off: summary.lift_off,
+                slip: summary.slip,
+            };
+            pending.push_back(Event::Ended { run, end });
         }
     }
 }

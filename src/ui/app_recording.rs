@@ -21,7 +21,8 @@ impl RinglabApp {
 
     /// Files dropped onto the window this frame: the first is opened.
     pub(super) fn take_dropped_files(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<std::path::PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
+        let dropped: Vec<std::path::PathBuf> =
+            ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
         if let Some(first) = dropped.into_iter().next() {
             self.open_recording(first);
         }
@@ -61,7 +62,9 @@ impl RinglabApp {
     fn adopt_events(&mut self, events: Vec<SessionEvent>) {
         for ev in events {
             match ev {
-                SessionEvent::Loaded(Some(case)) | SessionEvent::Fitted(case) => self.adopt_case(case),
+                SessionEvent::Loaded(Some(case)) | SessionEvent::Fitted(case) => {
+                    self.adopt_case(case)
+                }
                 // The model stays; the clock starts again with the recording.
                 SessionEvent::Loaded(None) => self.player.reset(),
             }

@@ -43,8 +43,16 @@ impl UnitLabels {
     }
 }
 
-fn slider(ui: &mut egui::Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, text: &str, suffix: &str, log: bool) -> bool {
-    ui.add(Slider::new(v, range).logarithmic(log).text(text).suffix(suffix).max_decimals(4)).changed()
+fn slider(
+    ui: &mut egui::Ui,
+    v: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    text: &str,
+    suffix: &str,
+    log: bool,
+) -> bool {
+    ui.add(Slider::new(v, range).logarithmic(log).text(text).suffix(suffix).max_decimals(4))
+        .changed()
 }
 
 /// Typical scales of a case file's units, for slider ranges: (length of the body, rate).
@@ -55,13 +63,24 @@ fn scales(f: &CaseFile) -> (f64, f64) {
 }
 
 /// The sliders of one case file. Returns what changed.
-pub fn parameters_ui(ui: &mut egui::Ui, f: &mut CaseFile, units: Option<&Units>, base: &CaseFile) -> Change {
+pub fn parameters_ui(
+    ui: &mut egui::Ui,
+    f: &mut CaseFile,
+    units: Option<&Units>,
+    base: &CaseFile,
+) -> Change {
     let mut change = Change::None;
-    let labels = units.map(UnitLabels::of).unwrap_or(UnitLabels { length: String::new(), rate: String::new(), time: String::new() });
+    let labels = units.map(UnitLabels::of).unwrap_or(UnitLabels {
+        length: String::new(),
+        rate: String::new(),
+        time: String::new(),
+    });
     let (len, rate) = scales(base);
 
     ui.label(RichText::new("Air drag (eq. 5, dimensionless)").strong());
-    for (i, name) in ["C1 (about e1, a diameter)", "C2 (about e2, the axis)", "C3 (about e3)"].iter().enumerate() {
+    for (i, name) in
+        ["C1 (about e1, a diameter)", "C2 (about e2, the axis)", "C3 (about e3)"].iter().enumerate()
+    {
         if slider(ui, &mut f.drag.c[i], 0.001..=1.0, name, "", true) {
             change = change.and(Change::Drag);
         }
@@ -75,10 +94,24 @@ pub fn parameters_ui(ui: &mut egui::Ui, f: &mut CaseFile, units: Option<&Units>,
     if slider(ui, &mut f.initial.theta, 0.02..=1.5, "theta0 (tilt)", " rad", false) {
         change = change.and(Change::Restart);
     }
-    if slider(ui, &mut f.initial.phi_dot, 0.0..=4.0 * rate, "phi'0 (precession)", &labels.rate, false) {
+    if slider(
+        ui,
+        &mut f.initial.phi_dot,
+        0.0..=4.0 * rate,
+        "phi'0 (precession)",
+        &labels.rate,
+        false,
+    ) {
         change = change.and(Change::Restart);
     }
-    if slider(ui, &mut f.initial.psi_dot, -2.0 * rate..=2.0 * rate, "psi'0 (spin)", &labels.rate, false) {
+    if slider(
+        ui,
+        &mut f.initial.psi_dot,
+        -2.0 * rate..=2.0 * rate,
+        "psi'0 (spin)",
+        &labels.rate,
+        false,
+    ) {
         change = change.and(Change::Restart);
     }
 
@@ -86,7 +119,9 @@ pub fn parameters_ui(ui: &mut egui::Ui, f: &mut CaseFile, units: Option<&Units>,
     ui.label(RichText::new("Body").strong());
     let mut disk = f.body.shape == "disk";
     ui.horizontal(|ui| {
-        if ui.radio_value(&mut disk, false, "ring").changed() || ui.radio_value(&mut disk, true, "disk").changed() {
+        if ui.radio_value(&mut disk, false, "ring").changed()
+            || ui.radio_value(&mut disk, true, "disk").changed()
+        {
             change = change.and(Change::Restart);
         }
     });
@@ -96,7 +131,14 @@ pub fn parameters_ui(ui: &mut egui::Ui, f: &mut CaseFile, units: Option<&Units>,
             f.body.thickness = Some(0.05 * f.body.outer_radius);
         }
     }
-    if slider(ui, &mut f.body.outer_radius, 0.2 * len..=3.0 * len, "R (outer radius)", &labels.length, false) {
+    if slider(
+        ui,
+        &mut f.body.outer_radius,
+        0.2 * len..=3.0 * len,
+        "R (outer radius)",
+        &labels.length,
+        false,
+    ) {
         change = change.and(Change::Restart);
     }
     if slider(ui, &mut f.body.width, 0.02 * len..=3.0 * len, "h (width)", &labels.length, false) {
@@ -137,7 +179,13 @@ pub struct PlaybackActions {
 /// Play/pause, step, reset, speed and the time scrubber. `end_seconds`: where the runs end,
 /// if known (else the scrubber reaches to what has arrived). `time_unit_s`: seconds per unit
 /// of the time shown.
-pub fn playback_ui(ui: &mut egui::Ui, player: &mut Player, end_seconds: f64, time_unit_s: f64, time_label: &str) -> PlaybackActions {
+pub fn playback_ui(
+    ui: &mut egui::Ui,
+    player: &mut Player,
+    end_seconds: f64,
+    time_unit_s: f64,
+    time_label: &str,
+) -> PlaybackActions {
     let mut act = PlaybackActions::default();
     ui.horizontal(|ui| {
         let text = if player.is_playing() { "Pause" } else { "Play" };
@@ -151,7 +199,16 @@ pub fn playback_ui(ui: &mut egui::Ui, player: &mut Player, end_seconds: f64, tim
             act.reset = true;
         }
         let mut speed = player.speed();
-        if ui.add(Slider::new(&mut speed, SPEED_MIN..=SPEED_MAX).logarithmic(true).text("speed").suffix("x").max_decimals(2)).changed() {
+        if ui
+            .add(
+                Slider::new(&mut speed, SPEED_MIN..=SPEED_MAX)
+                    .logarithmic(true)
+                    .text("speed")
+                    .suffix("x")
+                    .max_decimals(2),
+            )
+            .changed()
+        {
             player.set_speed(speed);
         }
         let unit = time_unit_s.max(1e-12);
@@ -159,7 +216,10 @@ pub fn playback_ui(ui: &mut egui::Ui, player: &mut Player, end_seconds: f64, tim
         let end = (end_seconds / unit).max(t).max(1e-6);
         let w = (ui.available_width() - 150.0).max(80.0);
         ui.spacing_mut().slider_width = w;
-        if ui.add(Slider::new(&mut t, 0.0..=end).text(format!("t ({time_label})")).max_decimals(2)).changed() {
+        if ui
+            .add(Slider::new(&mut t, 0.0..=end).text(format!("t ({time_label})")).max_decimals(2))
+            .changed()
+        {
             act.seek = Some(t * unit);
         }
     });

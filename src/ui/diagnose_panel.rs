@@ -26,7 +26,11 @@ pub enum DiagnoseAction {
 const TRACE_POINTS: usize = 1200;
 
 /// The Diagnose tab. `in_use`: which of the diagnosis's models the simulator runs now.
-pub fn diagnose_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, in_use: Option<DiagnosedModel>) -> DiagnoseAction {
+pub fn diagnose_panel_ui(
+    ui: &mut egui::Ui,
+    session: &RecordingSession,
+    in_use: Option<DiagnosedModel>,
+) -> DiagnoseAction {
     let mut action = DiagnoseAction::None;
     ui.label(RichText::new("Diagnose the recording").strong());
     ui.label(
@@ -43,9 +47,19 @@ pub fn diagnose_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, in_use: 
     }
     match session.diagnose_progress() {
         Some(p) => {
-            ui.add(egui::ProgressBar::new(p.fraction).text(RichText::new(p.text).small()).animate(true));
+            ui.add(
+                egui::ProgressBar::new(p.fraction)
+                    .text(RichText::new(p.text).small())
+                    .animate(true),
+            );
             let cancelling = session.diagnose_cancelling();
-            if ui.add_enabled(!cancelling, egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" })).clicked() {
+            if ui
+                .add_enabled(
+                    !cancelling,
+                    egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" }),
+                )
+                .clicked()
+            {
                 action = DiagnoseAction::Cancel;
             }
         }
@@ -76,15 +90,25 @@ fn pm(v: f64, s: f64) -> String {
 }
 
 /// The finding, the plots and the buttons; the model asked for, if any.
-fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -> Option<DiagnosedModel> {
+fn result_ui(
+    ui: &mut egui::Ui,
+    d: &Diagnosed,
+    in_use: Option<DiagnosedModel>,
+) -> Option<DiagnosedModel> {
     let r = &d.result;
     let (headline, colour) = match &r.finding {
         Finding::Nothing => ("Left out: nothing the recording can show".to_string(), DATA_COLOR),
-        Finding::Named(k) => (format!("Left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")), MISMATCH_COLOR),
+        Finding::Named(k) => (
+            format!("Left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + ")),
+            MISMATCH_COLOR,
+        ),
         Finding::Unexplained { partial } => (
             format!(
                 "Left out: something no candidate explains{}",
-                partial.as_ref().map_or(String::new(), |p| format!(" ({p} explains {:.0}%, partially)", 100.0 * p.share))
+                partial.as_ref().map_or(String::new(), |p| format!(
+                    " ({p} explains {:.0}%, partially)",
+                    100.0 * p.share
+                ))
             ),
             MISMATCH_COLOR,
         ),
@@ -92,14 +116,25 @@ fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -
     ui.label(RichText::new(headline).strong().size(15.0).color(colour));
     egui::Grid::new("diagnosis-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
         let window = r.mismatch.as_ref().map_or("none beyond the noise".to_string(), |m| {
-            format!("{:.2} s to {:.2} s of the recording ({:.2} px rms there)", m.start_s, m.end_s, m.rms_px)
+            format!(
+                "{:.2} s to {:.2} s of the recording ({:.2} px rms there)",
+                m.start_s, m.end_s, m.rms_px
+            )
         });
         row(ui, "mismatch", window);
         let noise_from = if r.noise_from_marks { "from the tracks" } else { "from the fit" };
         row(ui, "pixel noise", format!("{:.3} px ({noise_from})", r.noise_px));
         row(ui, "glitches", format!("{} mark positions left out", r.glitches.len()));
         row(ui, "misfit", format!("{:.3} px -> {:.3} px", r.before.rms_px, r.after.rms_px));
-        row(ui, "beyond the noise", format!("{:.3} px -> {:.3} px", r.excess_px(r.before.rms_px), r.excess_px(r.after.rms_px)));
+        row(
+            ui,
+            "beyond the noise",
+            format!(
+                "{:.3} px -> {:.3} px",
+                r.excess_px(r.before.rms_px),
+                r.excess_px(r.after.rms_px)
+            ),
+        );
         if let Some((v, s)) = r.after.strength {
             row(ui, r.after.effect.parameter(), pm(v, s));
         }
@@ -109,7 +144,8 @@ fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -
         row(ui, "frames", format!("{} of {} fitted", r.frames_fitted, r.frames));
         // The compute time varies from run to run: on hover only (pictures stay the same).
         ui.label(RichText::new("candidates").small());
-        ui.label(RichText::new(format!("{} ranked by BIC", r.candidates.len()))).on_hover_text(format!("the diagnosis took {:.1} s", r.compute_seconds));
+        ui.label(RichText::new(format!("{} ranked by BIC", r.candidates.len())))
+            .on_hover_text(format!("the diagnosis took {:.1} s", r.compute_seconds));
         ui.end_row();
     });
     ui.add_space(4.0);
@@ -119,12 +155,17 @@ fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -
             (DiagnosedModel::Improved, "Run the improved model", &d.improved),
             (DiagnosedModel::Baseline, "Run the baseline", &d.baseline),
         ] {
-            let shown = if in_use == Some(which) { format!("{label} (running)") } else { label.to_string() };
+            let shown = if in_use == Some(which) {
+                format!("{label} (running)")
+            } else {
+                label.to_string()
+            };
             let hover = match case {
                 Ok(c) => c.description.clone(),
                 Err(e) => format!("cannot be run: {e}"),
             };
-            if ui.add_enabled(case.is_ok(), egui::Button::new(shown)).on_hover_text(hover).clicked() {
+            if ui.add_enabled(case.is_ok(), egui::Button::new(shown)).on_hover_text(hover).clicked()
+            {
                 asked = Some(which);
             }
         }
@@ -140,29 +181,38 @@ fn result_ui(ui: &mut egui::Ui, d: &Diagnosed, in_use: Option<DiagnosedModel>) -
 }
 
 fn candidates_ui(ui: &mut egui::Ui, r: &Diagnosis) {
-    egui::Grid::new("diagnosis-candidates").num_columns(4).spacing([8.0, 1.0]).striped(true).show(ui, |ui| {
-        for h in ["candidate", "rms px", "BIC vs base", "strength"] {
-            ui.label(RichText::new(h).small().strong());
-        }
-        ui.end_row();
-        for c in &r.candidates {
-            let name = RichText::new(c.effect.name()).small();
-            ui.label(if r.finding.named().contains(&c.effect) { name.strong() } else { name });
-            ui.label(RichText::new(format!("{:.3}", c.rms_px)).small());
-            ui.label(RichText::new(format!("{:+.1}", c.delta_score)).small());
-            let s = match (&c.error, c.strength) {
-                (Some(e), _) => format!("not fitted: {e}"),
-                (None, Some((v, _))) => format!("{v:.4}"),
-                (None, None) => String::new(),
-            };
-            let label = ui.label(RichText::new(s).small());
-            if let Some(note) = c.stopped_note() {
-                label.on_hover_text(note);
+    egui::Grid::new("diagnosis-candidates").num_columns(4).spacing([8.0, 1.0]).striped(true).show(
+        ui,
+        |ui| {
+            for h in ["candidate", "rms px", "BIC vs base", "strength"] {
+                ui.label(RichText::new(h).small().strong());
             }
             ui.end_row();
-        }
-    });
-    ui.label(RichText::new(format!("An effect is named when its BIC is at least {} below the baseline's.", r.evidence)).small());
+            for c in &r.candidates {
+                let name = RichText::new(c.effect.name()).small();
+                ui.label(if r.finding.named().contains(&c.effect) { name.strong() } else { name });
+                ui.label(RichText::new(format!("{:.3}", c.rms_px)).small());
+                ui.label(RichText::new(format!("{:+.1}", c.delta_score)).small());
+                let s = match (&c.error, c.strength) {
+                    (Some(e), _) => format!("not fitted: {e}"),
+                    (None, Some((v, _))) => format!("{v:.4}"),
+                    (None, None) => String::new(),
+                };
+                let label = ui.label(RichText::new(s).small());
+                if let Some(note) = c.stopped_note() {
+                    label.on_hover_text(note);
+                }
+                ui.end_row();
+            }
+        },
+    );
+    ui.label(
+        RichText::new(format!(
+            "An effect is named when its BIC is at least {} below the baseline's.",
+            r.evidence
+        ))
+        .small(),
+    );
 }
 
 fn legend_ui(ui: &mut egui::Ui, r: &Diagnosis) {
@@ -191,7 +241,11 @@ fn every<T: Copy>(v: &[T], max: usize) -> Vec<T> {
 fn trace_plot_ui(ui: &mut egui::Ui, r: &Diagnosis) {
     let t = &r.trace;
     let flip = |p: [f64; 2]| [p[0], -p[1]];
-    let data: Vec<[f64; 2]> = every(&t.data_px.iter().flatten().copied().collect::<Vec<_>>(), TRACE_POINTS).into_iter().map(flip).collect();
+    let data: Vec<[f64; 2]> =
+        every(&t.data_px.iter().flatten().copied().collect::<Vec<_>>(), TRACE_POINTS)
+            .into_iter()
+            .map(flip)
+            .collect();
     let before: Vec<[f64; 2]> = every(&t.before_px, TRACE_POINTS).into_iter().map(flip).collect();
     let after: Vec<[f64; 2]> = every(&t.after_px, TRACE_POINTS).into_iter().map(flip).collect();
     ui.label(RichText::new("point A in the image (px)").small());
@@ -214,7 +268,8 @@ fn trace_plot_ui(ui: &mut egui::Ui, r: &Diagnosis) {
 fn residual_plot_ui(ui: &mut egui::Ui, r: &Diagnosis) {
     let s = &r.residuals;
     let series = |v: &[f64]| -> Vec<[f64; 2]> {
-        let pts: Vec<[f64; 2]> = s.t_s.iter().zip(v).filter(|(_, y)| y.is_finite()).map(|(&t, &y)| [t, y]).collect();
+        let pts: Vec<[f64; 2]> =
+            s.t_s.iter().zip(v).filter(|(_, y)| y.is_finite()).map(|(&t, &y)| [t, y]).collect();
         thin(&pts, 400)
     };
     let before = series(&s.before_px);
@@ -231,10 +286,16 @@ fn residual_plot_ui(ui: &mut egui::Ui, r: &Diagnosis) {
         .show(ui, |p| {
             if let Some(m) = &r.mismatch {
                 let xs = [m.start_s, m.start_s, m.end_s, m.end_s];
-                p.add(FilledArea::new("mismatch", &xs, &[0.0; 4], &[0.0, hi, hi, 0.0]).fill_color(MISMATCH_FILL).allow_hover(false));
+                p.add(
+                    FilledArea::new("mismatch", &xs, &[0.0; 4], &[0.0, hi, hi, 0.0])
+                        .fill_color(MISMATCH_FILL)
+                        .allow_hover(false),
+                );
             }
             p.line(Line::new("baseline", PlotPoints::new(before)).color(BASELINE_COLOR).width(1.2));
             p.line(Line::new("improved", PlotPoints::new(after)).color(IMPROVED_COLOR).width(1.2));
-            p.hline(HLine::new("noise", r.noise_px).color(egui::Color32::from_gray(120)).width(1.0));
+            p.hline(
+                HLine::new("noise", r.noise_px).color(egui::Color32::from_gray(120)).width(1.0),
+            );
         });
 }

@@ -39,7 +39,10 @@ fn gpu_or_new(gpu: Option<Arc<Gpu>>) -> Result<Arc<Gpu>, RenderError> {
 
 /// A case's name as part of a file name.
 fn file_stem(name: &str) -> String {
-    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' }).collect();
+    let s: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+        .collect();
     if s.trim_matches('-').is_empty() { "case".into() } else { s }
 }
 
@@ -92,7 +95,8 @@ impl RinglabApp {
             MenuAction::File(task) => self.request_file(task),
             MenuAction::VideoDialog => {
                 let now = self.runs.first().map_or(0.0, |_| self.run_time(0));
-                let end = self.end_seconds().map(|s| s / self.runs.first().map_or(1.0, |r| r.time_s()));
+                let end =
+                    self.end_seconds().map(|s| s / self.runs.first().map_or(1.0, |r| r.time_s()));
                 self.video_dialog.show(now, end, self.player.speed());
             }
             MenuAction::Presentation(on) => self.set_presentation(on),
@@ -118,8 +122,13 @@ impl RinglabApp {
 
     /// The scale the UI is drawn at now.
     pub fn zoom_now(&self) -> f32 {
-        let z = if self.presentation.on { self.settings.presentation_zoom } else { self.settings.zoom };
-        if z.is_finite() { z.clamp(super::presentation::ZOOM_MIN, super::presentation::ZOOM_MAX) } else { 1.0 }
+        let z =
+            if self.presentation.on { self.settings.presentation_zoom } else { self.settings.zoom };
+        if z.is_finite() {
+            z.clamp(super::presentation::ZOOM_MIN, super::presentation::ZOOM_MAX)
+        } else {
+            1.0
+        }
     }
 
     /// Asks for a path for `task`: the live window opens the dialog at the end of the frame;
@@ -130,7 +139,11 @@ impl RinglabApp {
 
     /// The case file the sliders edit (the left one unless the right is chosen).
     fn edited_case(&self) -> &CaseFile {
-        if self.settings.compare && self.settings.edit_second { &self.settings.compare_case } else { &self.settings.case }
+        if self.settings.compare && self.settings.edit_second {
+            &self.settings.compare_case
+        } else {
+            &self.settings.case
+        }
     }
 
     /// The file name a save dialog proposes for `task`.
@@ -143,7 +156,12 @@ impl RinglabApp {
             FileTask::ExportCsv => format!("{case}.csv"),
             FileTask::Picture(PictureKind::Window) => format!("ringlab-{case}-t{t:.1}.png"),
             FileTask::Picture(PictureKind::View3d) => format!("ringlab-{case}-3d-t{t:.1}.png"),
-            FileTask::Video(v) => format!("ringlab-{case}-t{:.1}-{:.1}.{}", v.spec.from, v.spec.to, v.format.extension()),
+            FileTask::Video(v) => format!(
+                "ringlab-{case}-t{:.1}-{:.1}.{}",
+                v.spec.from,
+                v.spec.to,
+                v.format.extension()
+            ),
         }
     }
 
@@ -197,12 +215,14 @@ impl RinglabApp {
         match task {
             FileTask::OpenCase => self.open_case(&path),
             FileTask::SaveCase => {
-                let o = save_case_file(&path, self.edited_case()).map(|()| format!("saved the case to {}", path.display()));
+                let o = save_case_file(&path, self.edited_case())
+                    .map(|()| format!("saved the case to {}", path.display()));
                 self.say(o.map_err(|e| e.to_string()));
             }
             FileTask::ExportCsv => self.export_csv(path),
             FileTask::Picture(PictureKind::Window) => {
-                self.screenshot = Some(Screenshot { path, image: Arc::default(), requested: false });
+                self.screenshot =
+                    Some(Screenshot { path, image: Arc::default(), requested: false });
             }
             FileTask::Picture(PictureKind::View3d) => self.save_view_picture(path),
             FileTask::Video(v) => self.export_video(v, path),
@@ -236,7 +256,12 @@ impl RinglabApp {
         };
         self.exports.start_writing("export-csv", move || {
             write_run_csv(&case, &path)
-                .map(|n| format!("wrote the run, {n} rows (the columns of simulate --out), to {}", path.display()))
+                .map(|n| {
+                    format!(
+                        "wrote the run, {n} rows (the columns of simulate --out), to {}",
+                        path.display()
+                    )
+                })
                 .map_err(|e| e.to_string())
         });
     }
@@ -249,7 +274,8 @@ impl RinglabApp {
         self.exports.start_writing("picture", move || {
             let gpu = gpu_or_new(gpu).map_err(|e| e.to_string())?;
             let mut renderer = SceneRenderer::new(&gpu.device, None);
-            let img = render_views(&gpu, &mut renderer, &frames, size).map_err(|e| e.to_string())?;
+            let img =
+                render_views(&gpu, &mut renderer, &frames, size).map_err(|e| e.to_string())?;
             save_png(&img, &path).map_err(|e| e.to_string())?;
             Ok(format!("saved the 3D view ({}x{}) to {}", size[0], size[1], path.display()))
         });
@@ -285,7 +311,12 @@ impl RinglabApp {
         self.exports.start_writing("picture", move || {
             let rgba = from_color_image(&img);
             save_png(&rgba, &path).map_err(|e| e.to_string())?;
-            Ok(format!("saved the window ({}x{}) to {}", rgba.width(), rgba.height(), path.display()))
+            Ok(format!(
+                "saved the window ({}x{}) to {}",
+                rgba.width(),
+                rgba.height(),
+                path.display()
+            ))
         });
     }
 
@@ -302,24 +333,35 @@ impl RinglabApp {
         let names = self.run_names();
         let (camera, contact) = (self.camera, self.settings.show_contact);
         let aim = if self.settings.follow { Aim::Follow } else { Aim::Fixed };
-        let settings = super::Settings { detail_3d: Detail3d::Full, zoom: 1.0, ..self.settings.clone() };
+        let settings =
+            super::Settings { detail_3d: Detail3d::Full, zoom: 1.0, ..self.settings.clone() };
         let started = self.exports.start_video(move |ctx| {
             let run = || -> Result<_, ExportError> {
                 let gpu = Gpu::new()?;
                 let mut source = match v.view {
                     View::ThreeD => FrameSource::three_d(&gpu, cases, camera, aim, contact),
-                    View::Top => FrameSource::top(&gpu, names.into_iter().zip(cases).collect(), contact),
-                    View::App => FrameSource::app(&gpu, RinglabApp::new(settings, Mode::Fixed { seconds: 0.0 })),
+                    View::Top => {
+                        FrameSource::top(&gpu, names.into_iter().zip(cases).collect(), contact)
+                    }
+                    View::App => FrameSource::app(
+                        &gpu,
+                        RinglabApp::new(settings, Mode::Fixed { seconds: 0.0 }),
+                    ),
                 };
                 write_video(&gpu, &mut source, &v.spec, v.size, &path, &mut |done, total| {
-                    ctx.report(Progress { fraction: done as f32 / total.max(1) as f32, text: format!("frame {done} of {total}") });
+                    ctx.report(Progress {
+                        fraction: done as f32 / total.max(1) as f32,
+                        text: format!("frame {done} of {total}"),
+                    });
                     !ctx.cancelled()
                 })
             };
             describe_video(run())
         });
         if !started {
-            self.say(Err("a video is being made: wait for it, or cancel it (File > Export video…)".into()));
+            self.say(Err(
+                "a video is being made: wait for it, or cancel it (File > Export video…)".into(),
+            ));
         }
     }
 
@@ -328,7 +370,11 @@ impl RinglabApp {
     pub(super) fn classroom_keys(&mut self, ctx: &egui::Context) {
         use egui::{Key, Modifiers};
         let (f11, view3d, window) = ctx.input_mut(|i| {
-            (i.consume_key(Modifiers::NONE, Key::F11), i.consume_key(Modifiers::SHIFT, Key::F12), i.consume_key(Modifiers::NONE, Key::F12))
+            (
+                i.consume_key(Modifiers::NONE, Key::F11),
+                i.consume_key(Modifiers::SHIFT, Key::F12),
+                i.consume_key(Modifiers::NONE, Key::F12),
+            )
         });
         if f11 {
             self.set_presentation(!self.presentation.on);
@@ -353,8 +399,14 @@ mod tests {
         assert_eq!(file_stem("paper-ring"), "paper-ring");
         assert_eq!(file_stem("sample-ring.csv, fitted"), "sample-ring-csv--fitted");
         assert_eq!(file_stem("//"), "case");
-        assert_eq!(with_extension(&FileTask::ExportCsv, PathBuf::from("/tmp/run")), PathBuf::from("/tmp/run.csv"));
-        assert_eq!(with_extension(&FileTask::SaveCase, PathBuf::from("/tmp/a.txt")), PathBuf::from("/tmp/a.txt"));
+        assert_eq!(
+            with_extension(&FileTask::ExportCsv, PathBuf::from("/tmp/run")),
+            PathBuf::from("/tmp/run.csv")
+        );
+        assert_eq!(
+            with_extension(&FileTask::SaveCase, PathBuf::from("/tmp/a.txt")),
+            PathBuf::from("/tmp/a.txt")
+        );
         let dir = std::env::temp_dir().join(format!("ringlab-unused-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         assert_eq!(unused_path(&dir, "a.png"), dir.join("a.png"));

@@ -74,14 +74,22 @@ impl ImportForm {
     pub fn to_options(&self) -> Result<(Option<Format>, ImportOptions), String> {
         let format = match self.format.as_str() {
             "auto" | "" => None,
-            f => Some(Format::parse(f).ok_or_else(|| format!("format '{f}' is not one of auto, {}", Format::NAMES))?),
+            f => Some(
+                Format::parse(f)
+                    .ok_or_else(|| format!("format '{f}' is not one of auto, {}", Format::NAMES))?,
+            ),
         };
         let body = if self.preset.is_empty() {
-            let shape = Shape::parse(&self.shape).ok_or_else(|| format!("shape '{}' is neither ring nor disk", self.shape))?;
-            match (number("outer radius", &self.outer_radius_mm)?, number("width", &self.width_mm)?) {
-                (Some(r), Some(h)) => {
-                    Some(BodyMm { shape, outer_radius_mm: r, width_mm: h, thickness_mm: number("wall", &self.thickness_mm)? })
-                }
+            let shape = Shape::parse(&self.shape)
+                .ok_or_else(|| format!("shape '{}' is neither ring nor disk", self.shape))?;
+            match (number("outer radius", &self.outer_radius_mm)?, number("width", &self.width_mm)?)
+            {
+                (Some(r), Some(h)) => Some(BodyMm {
+                    shape,
+                    outer_radius_mm: r,
+                    width_mm: h,
+                    thickness_mm: number("wall", &self.thickness_mm)?,
+                }),
                 _ => None,
             }
         } else {
@@ -90,11 +98,19 @@ impl ImportForm {
         };
         let unit = match self.unit.trim() {
             "" => None,
-            u => Some(LengthUnit::parse(u).ok_or_else(|| format!("unit '{u}' is not one of {}", LengthUnit::NAMES))?),
+            u => Some(
+                LengthUnit::parse(u)
+                    .ok_or_else(|| format!("unit '{u}' is not one of {}", LengthUnit::NAMES))?,
+            ),
         };
         let min_likelihood = match self.min_likelihood.trim().parse::<f64>() {
             Ok(v) if (0.0..=1.0).contains(&v) => v,
-            _ => return Err(format!("minimum likelihood '{}' is not a number from 0 to 1", self.min_likelihood.trim())),
+            _ => {
+                return Err(format!(
+                    "minimum likelihood '{}' is not a number from 0 to 1",
+                    self.min_likelihood.trim()
+                ));
+            }
         };
         let opts = ImportOptions {
             fps: number("frames per second", &self.fps)?,
@@ -118,30 +134,44 @@ pub enum ImportDialogAction {
 }
 
 /// The dialog over the window; `problem` keeps the last form error until the next try.
-pub fn import_dialog_ui(ctx: &egui::Context, pending: &PendingImport, form: &mut ImportForm, problem: &mut Option<String>) -> Option<ImportDialogAction> {
+pub fn import_dialog_ui(
+    ctx: &egui::Context,
+    pending: &PendingImport,
+    form: &mut ImportForm,
+    problem: &mut Option<String>,
+) -> Option<ImportDialogAction> {
     let mut action = None;
-    let name = pending.path.file_name().map_or(pending.path.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let name = pending
+        .path
+        .file_name()
+        .map_or(pending.path.display().to_string(), |n| n.to_string_lossy().into_owned());
     egui::Window::new("Open a tracker's file")
         .collapsible(false)
         .resizable(false)
         .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
         .show(ctx, |ui| {
             ui.label(egui::RichText::new(&name).strong());
-            ui.label(egui::RichText::new(pending.error.kind.to_string()).color(ui.visuals().warn_fg_color));
+            ui.label(
+                egui::RichText::new(pending.error.kind.to_string())
+                    .color(ui.visuals().warn_fg_color),
+            );
             ui.add_space(4.0);
             egui::Grid::new("import-form").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
                 ui.label("Format");
-                egui::ComboBox::from_id_salt("import-format").selected_text(form.format.clone()).show_ui(ui, |ui| {
-                    for f in ["auto", "dlc", "tracker", "trackmate", "csv"] {
-                        ui.selectable_value(&mut form.format, f.to_string(), f);
-                    }
-                });
+                egui::ComboBox::from_id_salt("import-format")
+                    .selected_text(form.format.clone())
+                    .show_ui(ui, |ui| {
+                        for f in ["auto", "dlc", "tracker", "trackmate", "csv"] {
+                            ui.selectable_value(&mut form.format, f.to_string(), f);
+                        }
+                    });
                 ui.end_row();
                 field_ui(ui, "Frames per second", &mut form.fps, "as the file says");
                 field_ui(ui, "Pixels per mm", &mut form.px_per_mm, "as the file says");
                 ui.label("Body");
                 ui.horizontal(|ui| {
-                    let current = if form.preset.is_empty() { "custom" } else { form.preset.as_str() };
+                    let current =
+                        if form.preset.is_empty() { "custom" } else { form.preset.as_str() };
                     if let Some(p) = preset_picker_ui(ui, "", current) {
                         form.preset = p;
                     }

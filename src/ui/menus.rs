@@ -21,9 +21,21 @@ pub enum MenuAction {
     Zoom(Zoom),
 }
 
-fn item(ui: &mut egui::Ui, enabled: bool, label: &str, keys: &str, hover: &str, action: MenuAction, out: &mut MenuAction) {
+fn item(
+    ui: &mut egui::Ui,
+    enabled: bool,
+    label: &str,
+    keys: &str,
+    hover: &str,
+    action: MenuAction,
+    out: &mut MenuAction,
+) {
     // A shortcut is part of the button's accessible label: none where there is no key.
-    let button = if keys.is_empty() { egui::Button::new(label) } else { egui::Button::new(label).shortcut_text(keys) };
+    let button = if keys.is_empty() {
+        egui::Button::new(label)
+    } else {
+        egui::Button::new(label).shortcut_text(keys)
+    };
     let r = ui.add_enabled(enabled, button);
     if r.on_hover_text(hover).clicked() {
         *out = action;
@@ -32,7 +44,12 @@ fn item(ui: &mut egui::Ui, enabled: bool, label: &str, keys: &str, hover: &str, 
 }
 
 /// The File menu; `presenting`: View has a menu of its own beside it.
-pub fn file_menu_ui(ui: &mut egui::Ui, recording: &RecordingSession, exports: &ExportSession, presenting: bool) -> MenuAction {
+pub fn file_menu_ui(
+    ui: &mut egui::Ui,
+    recording: &RecordingSession,
+    exports: &ExportSession,
+    presenting: bool,
+) -> MenuAction {
     let mut a = MenuAction::None;
     ui.menu_button("File", |ui| {
         let idle = !exports.dialog_open();
@@ -67,9 +84,33 @@ pub fn view_menu_ui(ui: &mut egui::Ui) -> MenuAction {
 fn view_items_ui(ui: &mut egui::Ui, presenting: bool) -> Option<MenuAction> {
     let mut a = MenuAction::None;
     let label = if presenting { "Leave presentation" } else { "Presentation" };
-    item(ui, true, label, "F11", "full screen, larger text, a high-contrast theme and thick lines; the side panel folds away", MenuAction::Presentation(!presenting), &mut a);
-    item(ui, true, "Zoom in", "Ctrl +", "a larger UI (kept for next time)", MenuAction::Zoom(Zoom::In), &mut a);
+    item(
+        ui,
+        true,
+        label,
+        "F11",
+        "full screen, larger text, a high-contrast theme and thick lines; the side panel folds away",
+        MenuAction::Presentation(!presenting),
+        &mut a,
+    );
+    item(
+        ui,
+        true,
+        "Zoom in",
+        "Ctrl +",
+        "a larger UI (kept for next time)",
+        MenuAction::Zoom(Zoom::In),
+        &mut a,
+    );
     item(ui, true, "Zoom out", "Ctrl -", "a smaller UI", MenuAction::Zoom(Zoom::Out), &mut a);
-    item(ui, true, "Reset zoom", "Ctrl 0", "the mode's own scale", MenuAction::Zoom(Zoom::Reset), &mut a);
+    item(
+        ui,
+        true,
+        "Reset zoom",
+        "Ctrl 0",
+        "the mode's own scale",
+        MenuAction::Zoom(Zoom::Reset),
+        &mut a,
+    );
     (a != MenuAction::None).then_some(a)
 }

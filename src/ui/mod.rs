@@ -14,10 +14,10 @@ pub mod import_dialog;
 /// The adapter's adjustments and the lean painter live with the renderer; the window uses them.
 pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
 pub use crate::render::lean_paint;
+mod app_recording;
 mod file_actions;
 pub mod menus;
 pub mod palette;
-mod app_recording;
 mod panels;
 pub mod plots;
 pub mod presentation;
@@ -52,6 +52,8 @@ pub enum Mode {
     Fixed { seconds: f64 },
 }
 
+// One per run shown (two at most): a boxed track would save nothing that counts.
+#[allow(clippy::large_enum_variant)]
 enum Source {
     Live(SimHandle),
     Fixed(Track),
@@ -63,12 +65,10 @@ struct Run {
 
 impl Run {
     fn new(case: Case, live: bool) -> Run {
-        if live {
-            if let Ok(h) = SimHandle::spawn(case.clone()) {
-                return Run { source: Source::Live(h) };
-            }
-            // No thread to be had: compute in place instead.
+        if live && let Ok(h) = SimHandle::spawn(case.clone()) {
+            return Run { source: Source::Live(h) };
         }
+        // No thread to be had: compute in place instead.
         Run { source: Source::Fixed(Track::compute(case)) }
     }
 
@@ -192,7 +192,13 @@ impl RinglabApp {
         if self.settings.compare {
             files.push((&self.settings.compare_case, "right"));
         }
-        files.iter().map(|(f, side)| f.build().map_err(|e| if self.settings.compare { format!("{side}: {e}") } else { e })).collect()
+        files
+            .iter()
+            .map(|(f, side)| {
+                f.build()
+                    .map_err(|e| if self.settings.compare { format!("{side}: {e}") } else { e })
+            })
+            .collect()
     }
 
     /// Starts the run(s) afresh (new threads), the clock at zero.
@@ -214,7 +220,8 @@ impl RinglabApp {
     }
 
     fn note_restart(&mut self) {
-        self.restart_pending = Some((Instant::now(), self.runs.iter().map(|r| r.run_id()).collect()));
+        self.restart_pending =
+            Some((Instant::now(), self.runs.iter().map(|r| r.run_id()).collect()));
         self.restart_shown = None;
     }
 
@@ -333,7 +340,10 @@ impl RinglabApp {
 
     /// How far the scrubber reaches (seconds): the end, or what has arrived so far.
     fn known_seconds(&self) -> f64 {
-        self.runs.iter().map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s()).fold(0.0, f64::max)
+        self.runs
+            .iter()
+            .map(|r| r.track().last_time().unwrap_or(0.0) * r.time_s())
+            .fold(0.0, f64::max)
     }
 
     /// Advances the clock by the wall time since the last frame and takes in the states the
@@ -353,7 +363,11 @@ impl RinglabApp {
     /// Notes when the runs asked for by the last change first have a state to show.
     fn note_arrival(&mut self, now: Instant) {
         if let Some((_, ids)) = &self.restart_pending {
-            let arrived = self.runs.iter().zip(ids).all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
+            let arrived = self
+                .runs
+                .iter()
+                .zip(ids)
+                .all(|(r, id)| r.track().run() == *id && !r.track().samples().is_empty());
             if arrived && self.restart_shown.is_none() {
                 self.restart_shown = Some(now);
             }
@@ -371,15 +385,16 @@ impl RinglabApp {
     /// display needs. Never waits for the integrator.
     pub fn tick(&mut self, now: Instant) {
         // The previous frame showed the restarted run; it has been painted by now.
-        if self.restart_shown.take().is_some() {
-            if let Some((asked, _)) = self.restart_pending.take() {
-                self.last_restart_latency = Some(now.duration_since(asked));
-            }
+        if self.restart_shown.take().is_some()
+            && let Some((asked, _)) = self.restart_pending.take()
+        {
+            self.last_restart_latency = Some(now.duration_since(asked));
         }
         let wall = self.last_tick.map_or(0.0, |t| now.duration_since(t).as_secs_f64().min(0.1));
         self.last_tick = Some(now);
         self.player.set_speed(self.settings.speed);
-        let next = self.player.seconds() + if self.player.is_playing() { wall * self.player.speed() } else { 0.0 };
+        let next = self.player.seconds()
+            + if self.player.is_playing() { wall * self.player.speed() } else { 0.0 };
         self.pump_live(next);
         let available = self
             .runs
@@ -394,7 +409,10 @@ impl RinglabApp {
 
     /// Whether anything still moves (the window keeps repainting while so).
     pub fn is_animating(&self) -> bool {
-        self.live && (self.player.is_playing() || self.runs.iter().any(|r| !r.track().is_finished()) || self.restart_pending.is_some())
+        self.live
+            && (self.player.is_playing()
+                || self.runs.iter().any(|r| !r.track().is_finished())
+                || self.restart_pending.is_some())
     }
 
     /// Pictures of the 3D view draw on this device (the window's) instead of opening their own.
@@ -407,7 +425,8 @@ impl RinglabApp {
         if ctx.egui_wants_keyboard_input() {
             return;
         }
-        let (space, r) = ctx.input(|i| (i.key_pressed(egui::Key::Space), i.key_pressed(egui::Key::R)));
+        let (space, r) =
+            ctx.input(|i| (i.key_pressed(egui::Key::Space), i.key_pressed(egui::Key::R)));
         if space {
             self.player.toggle();
         }
@@ -446,28 +465,40 @@ impl RinglabApp {
         // is of the run (for slides).
         let picture_frame = self.screenshot.is_some();
         if recording_panel::has_messages(&self.recording) && !picture_frame {
-            egui::Panel::top("messages").frame(side).show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
+            egui::Panel::top("messages")
+                .frame(side)
+                .show(ui, |ui| recording_panel::messages_ui(ui, &mut self.recording));
         }
         // Presentation mode folds the side panel away (a button in the top bar unfolds it).
         if !self.presentation.on || self.presentation.side_open {
-            egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(ui, |ui| {
-                self.side_tabs_ui(ui);
-                egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
-                    SideTab::Model => self.parameters_panel_ui(ui),
-                    SideTab::Recording => self.recording_tab_ui(ui),
-                    SideTab::Diagnose => self.diagnose_tab_ui(ui),
-                });
-            });
+            egui::Panel::left("parameters").frame(side).default_size(300.0).resizable(false).show(
+                ui,
+                |ui| {
+                    self.side_tabs_ui(ui);
+                    egui::ScrollArea::vertical().show(ui, |ui| match self.side_tab {
+                        SideTab::Model => self.parameters_panel_ui(ui),
+                        SideTab::Recording => self.recording_tab_ui(ui),
+                        SideTab::Diagnose => self.diagnose_tab_ui(ui),
+                    });
+                },
+            );
         }
         if self.live {
             self.pump_now();
         }
         let (plots_height, traces_width) = self.panel_sizes(ui.ctx());
-        egui::Panel::bottom("plots").frame(side).exact_size(plots_height).show(ui, |ui| self.plots_panel_ui(ui));
-        egui::Panel::right("traces").frame(side).default_size(traces_width).resizable(false).show(ui, |ui| {
-            self.traces_panel_ui(ui)
-        });
-        egui::CentralPanel::default().frame(egui::Frame::new().inner_margin(4)).show(ui, |ui| self.view_panel_ui(ui));
+        egui::Panel::bottom("plots")
+            .frame(side)
+            .exact_size(plots_height)
+            .show(ui, |ui| self.plots_panel_ui(ui));
+        egui::Panel::right("traces")
+            .frame(side)
+            .default_size(traces_width)
+            .resizable(false)
+            .show(ui, |ui| self.traces_panel_ui(ui));
+        egui::CentralPanel::default()
+            .frame(egui::Frame::new().inner_margin(4))
+            .show(ui, |ui| self.view_panel_ui(ui));
 
         self.import_dialog(ui.ctx());
         recording_panel::drop_hint_ui(ui.ctx());
@@ -513,7 +544,9 @@ impl eframe::App for RinglabApp {
 /// of the case kept from the last session).
 pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::Error> {
     let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default().with_title("ringlab: rolling rings").with_inner_size([1480.0, 920.0]),
+        viewport: egui::ViewportBuilder::default()
+            .with_title("ringlab: rolling rings")
+            .with_inner_size([1480.0, 920.0]),
         ..Default::default()
     };
     eframe::run_native(
@@ -524,7 +557,8 @@ pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::E
                 crate::render::callback::install(rs);
                 adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
             }
-            let mut settings: Settings = cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
+            let mut settings: Settings =
+                cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
             if let Some(f) = case {
                 settings.preset = f.name.clone();
                 settings.case = f;
@@ -533,7 +567,11 @@ pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::E
             }
             let mut app = RinglabApp::new(settings, Mode::Live);
             if let Some(rs) = &cc.wgpu_render_state {
-                let gpu = Gpu { device: rs.device.clone(), queue: rs.queue.clone(), adapter: rs.adapter.get_info() };
+                let gpu = Gpu {
+                    device: rs.device.clone(),
+                    queue: rs.queue.clone(),
+                    adapter: rs.adapter.get_info(),
+                };
                 app.set_gpu(gpu);
             }
             Ok(Box::new(app))

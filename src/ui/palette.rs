@@ -34,7 +34,8 @@ pub const CONTACT_RGB: [u8; 3] = [70, 70, 78];
 /// Body metals (linear RGB): steel for the first body, brass for the second.
 pub const BODY_LINEAR: [[f32; 3]; 2] = [[0.60, 0.63, 0.68], [0.80, 0.55, 0.22]];
 /// The two runs' lines in the plots.
-pub const RUN_COLORS: [Color32; 2] = [Color32::from_rgb(40, 110, 215), Color32::from_rgb(200, 120, 20)];
+pub const RUN_COLORS: [Color32; 2] =
+    [Color32::from_rgb(40, 110, 215), Color32::from_rgb(200, 120, 20)];
 /// Shading of the intervals where the model is invalid.
 pub const LIFT_OFF_FILL: Color32 = Color32::from_rgba_premultiplied(120, 20, 20, 60);
 pub const SLIP_FILL: Color32 = Color32::from_rgba_premultiplied(110, 70, 0, 45);

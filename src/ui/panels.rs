@@ -2,11 +2,13 @@
 
 use super::controls::{self, UnitLabels};
 use super::menus::{self, MenuAction};
-use super::video_dialog::{VideoDialogAction, video_dialog_ui};
 use super::palette::{BODY_LINEAR, DATA_COLOR};
 use super::recording_panel;
 use super::recording_view::DataView;
-use super::{Detail3d, RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d};
+use super::video_dialog::{VideoDialogAction, video_dialog_ui};
+use super::{
+    Detail3d, RinglabApp, SideTab, diagnose_panel, plots, scene, teach, trace_panel, view3d,
+};
 use crate::config::load_preset;
 use crate::export::session::FileTask;
 use crate::render::{OrbitCamera, SceneFrame};
@@ -39,7 +41,11 @@ impl RinglabApp {
             let action = menus::view_menu_ui(ui);
             self.act_on_menu(action);
             let label = if self.presentation.side_open { "Hide parameters" } else { "Parameters" };
-            if ui.button(label).on_hover_text("the side panel: the model's parameters, the recording").clicked() {
+            if ui
+                .button(label)
+                .on_hover_text("the side panel: the model's parameters, the recording")
+                .clicked()
+            {
                 self.presentation.side_open = !self.presentation.side_open;
             }
             if ui.button("Leave presentation").on_hover_text("F11").clicked() {
@@ -47,7 +53,11 @@ impl RinglabApp {
             }
         }
         ui.separator();
-        if ui.button("Ring vs disk").on_hover_text("the paper's ring and its disk-like drag, side by side").clicked() {
+        if ui
+            .button("Ring vs disk")
+            .on_hover_text("the paper's ring and its disk-like drag, side by side")
+            .clicked()
+        {
             self.ring_vs_disk();
         }
         let mut compare = self.settings.compare;
@@ -58,7 +68,11 @@ impl RinglabApp {
 
     fn playback_row_ui(&mut self, ui: &mut egui::Ui) {
         let time_s = self.runs.first().map(|r| r.time_s()).unwrap_or(1.0);
-        let label = self.runs.first().map(|r| UnitLabels::of(&r.track().case().units).time).unwrap_or_default();
+        let label = self
+            .runs
+            .first()
+            .map(|r| UnitLabels::of(&r.track().case().units).time)
+            .unwrap_or_default();
         let end = self.end_seconds().unwrap_or_else(|| self.known_seconds());
         let act = controls::playback_ui(ui, &mut self.player, end, time_s, &label);
         if act.reset {
@@ -77,11 +91,28 @@ impl RinglabApp {
     /// The side panel's tabs: the model's parameters, the recording.
     pub(super) fn side_tabs_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
-            ui.selectable_value(&mut self.side_tab, SideTab::Model, RichText::new("Model").strong());
-            let busy = if self.recording.fit_progress().is_some() || self.recording.loading().is_some() { " …" } else { "" };
-            ui.selectable_value(&mut self.side_tab, SideTab::Recording, RichText::new(format!("Recording{busy}")).strong());
+            ui.selectable_value(
+                &mut self.side_tab,
+                SideTab::Model,
+                RichText::new("Model").strong(),
+            );
+            let busy =
+                if self.recording.fit_progress().is_some() || self.recording.loading().is_some() {
+                    " …"
+                } else {
+                    ""
+                };
+            ui.selectable_value(
+                &mut self.side_tab,
+                SideTab::Recording,
+                RichText::new(format!("Recording{busy}")).strong(),
+            );
             let busy = if self.recording.diagnose_progress().is_some() { " …" } else { "" };
-            ui.selectable_value(&mut self.side_tab, SideTab::Diagnose, RichText::new(format!("Diagnose{busy}")).strong());
+            ui.selectable_value(
+                &mut self.side_tab,
+                SideTab::Diagnose,
+                RichText::new(format!("Diagnose{busy}")).strong(),
+            );
         });
         ui.separator();
     }
@@ -119,7 +150,9 @@ impl RinglabApp {
             self.load_preset(&name, false);
         }
         if self.settings.compare {
-            if let Some(name) = controls::preset_picker_ui(ui, "right preset", &self.settings.compare_preset) {
+            if let Some(name) =
+                controls::preset_picker_ui(ui, "right preset", &self.settings.compare_preset)
+            {
                 self.load_preset(&name, true);
             }
             ui.horizontal(|ui| {
@@ -169,9 +202,18 @@ impl RinglabApp {
             .runs
             .iter()
             .enumerate()
-            .map(|(i, r)| plots::PlotRun { name: &names[i], track: r.track(), t: self.run_time(i), time_factor: r.time_s() / first_ts })
+            .map(|(i, r)| plots::PlotRun {
+                name: &names[i],
+                track: r.track(),
+                t: self.run_time(i),
+                time_factor: r.time_s() / first_ts,
+            })
             .collect();
-        let label = self.runs.first().map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time)).unwrap_or_default();
+        let label = self
+            .runs
+            .first()
+            .map(|r| format!("t ({})", UnitLabels::of(&r.track().case().units).time))
+            .unwrap_or_default();
         let data = self.data_view();
         let lines = data.as_ref().map(|d| d.plot_lines()).unwrap_or_default();
         let mismatch = data.as_ref().and_then(|d| d.mismatch_plot);
@@ -211,10 +253,19 @@ impl RinglabApp {
             for i in 0..self.runs.len() {
                 let t = self.run_time(i);
                 // The recording goes with the first run (the one a recording's model is put in).
-                let overlays: Vec<trace_panel::Overlay> = data.iter().filter(|_| i == 0).flat_map(|d| d.overlays()).collect();
+                let overlays: Vec<trace_panel::Overlay> =
+                    data.iter().filter(|_| i == 0).flat_map(|d| d.overlays()).collect();
                 ui.allocate_ui(egui::vec2(w, h), |ui| {
                     let title = format!("path of A from above: {}", names[i]);
-                    trace_panel::trace_panel_with_ui(ui, &title, self.runs[i].track(), t, contact, bounds, &overlays);
+                    trace_panel::trace_panel_with_ui(
+                        ui,
+                        &title,
+                        self.runs[i].track(),
+                        t,
+                        contact,
+                        bounds,
+                        &overlays,
+                    );
                 });
             }
         });
@@ -222,9 +273,22 @@ impl RinglabApp {
 
     /// What the 3D view draws for view `i` seen by `cam`: the run (and the recording in the
     /// first view), its paths thicker in presentation mode.
-    fn view_frame(&self, i: usize, cam: &OrbitCamera, data: Option<&DataView>, thick: f32) -> SceneFrame {
+    fn view_frame(
+        &self,
+        i: usize,
+        cam: &OrbitCamera,
+        data: Option<&DataView>,
+        thick: f32,
+    ) -> SceneFrame {
         let (follow, contact) = (self.settings.follow, self.settings.show_contact);
-        let mut frame = scene::scene_frame(self.runs[i].track(), self.run_time(i), cam, follow, contact, BODY_LINEAR[i % 2]);
+        let mut frame = scene::scene_frame(
+            self.runs[i].track(),
+            self.run_time(i),
+            cam,
+            follow,
+            contact,
+            BODY_LINEAR[i % 2],
+        );
         if let Some(d) = data.filter(|_| i == 0) {
             scene::add_recording(&mut frame, &d.path, d.ring.as_ref().map(|(b, p)| (b, *p)));
         }
@@ -240,18 +304,24 @@ impl RinglabApp {
     pub(super) fn view_frames(&self) -> Vec<SceneFrame> {
         let data = self.data_view();
         let thick = if self.presentation.on { super::presentation::THICK_LINES } else { 1.0 };
-        (0..self.runs.len()).map(|i| self.view_frame(i, &self.camera, data.as_ref(), thick)).collect()
+        (0..self.runs.len())
+            .map(|i| self.view_frame(i, &self.camera, data.as_ref(), thick))
+            .collect()
     }
 
     pub(super) fn view_panel_ui(&mut self, ui: &mut egui::Ui) {
-        let home = OrbitCamera::default_for(self.runs.first().map(|r| r.track().case().model.body.r as f32).unwrap_or(1.0));
+        let home = OrbitCamera::default_for(
+            self.runs.first().map(|r| r.track().case().model.body.r as f32).unwrap_or(1.0),
+        );
         let times: Vec<f64> = (0..self.runs.len()).map(|i| self.run_time(i)).collect();
         let tracks: Vec<&Track> = self.runs.iter().map(|r| r.track()).collect();
         let data = self.data_view();
         let scale = self.settings.detail_3d.scale(super::on_software_adapter(ui.ctx()));
         let thick = super::presentation::line_scale(ui.ctx());
         let mut camera = self.camera;
-        let rects = view3d::view3d_ui(ui, &mut camera, home, tracks.len(), scale, |i, cam| self.view_frame(i, cam, data.as_ref(), thick));
+        let rects = view3d::view3d_ui(ui, &mut camera, home, tracks.len(), scale, |i, cam| {
+            self.view_frame(i, cam, data.as_ref(), thick)
+        });
         self.camera = camera;
         if let (Some(first), Some(last)) = (rects.first(), rects.last()) {
             let ppp = ui.ctx().pixels_per_point();
@@ -261,11 +331,19 @@ impl RinglabApp {
         let names = self.run_names();
         for (i, rect) in rects.iter().enumerate() {
             let area = rect.shrink(8.0);
-            let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area).layout(egui::Layout::top_down(egui::Align::Min)));
-            egui::Frame::new().fill(egui::Color32::from_white_alpha(215)).corner_radius(ui.visuals().widgets.noninteractive.corner_radius).inner_margin(6.0).show(&mut child, |ui| {
-                ui.set_max_width(area.width().min(460.0));
-                teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
-            });
+            let mut child = ui.new_child(
+                egui::UiBuilder::new()
+                    .max_rect(area)
+                    .layout(egui::Layout::top_down(egui::Align::Min)),
+            );
+            egui::Frame::new()
+                .fill(egui::Color32::from_white_alpha(215))
+                .corner_radius(ui.visuals().widgets.noninteractive.corner_radius)
+                .inner_margin(6.0)
+                .show(&mut child, |ui| {
+                    ui.set_max_width(area.width().min(460.0));
+                    teach::phase_label_ui(ui, &names[i], tracks[i], times[i]);
+                });
         }
         if self.restart_pending.is_some() && self.restart_shown.is_none() && self.live {
             // Still waiting: ask for another frame at once.

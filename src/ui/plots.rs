@@ -41,7 +41,11 @@ struct Quantity {
 
 const QUANTITIES: [Quantity; 4] = [
     Quantity { id: "v_p", label: "v_p: speed of A along the table (Fig. 3)", value: |s| s.v_p },
-    Quantity { id: "F_f", label: "F_f: sideways friction (Fig. 4c); dots at theta_max", value: |s| s.f_f },
+    Quantity {
+        id: "F_f",
+        label: "F_f: sideways friction (Fig. 4c); dots at theta_max",
+        value: |s| s.f_f,
+    },
     Quantity { id: "theta", label: "theta: tilt (rad)", value: |s| s.theta() },
     Quantity { id: "energy", label: "energy", value: |s| s.energy },
 ];
@@ -65,8 +69,12 @@ pub fn thin(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
         let next = &points[end..next_end.max(end + 1).min(n)];
         let k = next.len().max(1) as f64;
         let mean = next.iter().fold([0.0, 0.0], |m, p| [m[0] + p[0] / k, m[1] + p[1] / k]);
-        let area = |p: &[f64; 2]| ((last[0] - mean[0]) * (p[1] - last[1]) - (last[0] - p[0]) * (mean[1] - last[1])).abs();
-        if let Some(best) = points[start..end.max(start + 1)].iter().max_by(|a, b| area(a).total_cmp(&area(b))) {
+        let area = |p: &[f64; 2]| {
+            ((last[0] - mean[0]) * (p[1] - last[1]) - (last[0] - p[0]) * (mean[1] - last[1])).abs()
+        };
+        if let Some(best) =
+            points[start..end.max(start + 1)].iter().max_by(|a, b| area(a).total_cmp(&area(b)))
+        {
             out.push(*best);
             last = *best;
         }
@@ -78,7 +86,12 @@ pub fn thin(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
 /// The invalid intervals of a run as one filled area per kind (a band from `lo` to `hi` over
 /// each interval, zero height between them): one plot item instead of one per interval, which
 /// matters when a run has seventy slip intervals and four plots show them.
-fn bands(intervals: &[Interval], factor: f64, lo: f64, hi: f64) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+fn bands(
+    intervals: &[Interval],
+    factor: f64,
+    lo: f64,
+    hi: f64,
+) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
     if intervals.is_empty() {
         return None;
     }
@@ -104,7 +117,13 @@ fn series(run: &PlotRun, value: fn(&Sample) -> f64) -> Vec<[f64; 2]> {
 
 /// The four plots in a 2 x 2 grid filling the space given; `time_label`: the time axis' unit;
 /// `mismatch`: a diagnosis's mismatch window on the time axis, shaded.
-pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[DataLine], mismatch: Option<[f64; 2]>) {
+pub fn plots_ui(
+    ui: &mut egui::Ui,
+    runs: &[PlotRun],
+    time_label: &str,
+    data: &[DataLine],
+    mismatch: Option<[f64; 2]>,
+) {
     ui.horizontal(|ui| {
         ui.label(egui::RichText::new("Shaded: the model's assumptions fail there:").small());
         super::teach::swatch_ui(ui, LIFT_OFF_FILL);
@@ -140,7 +159,9 @@ pub fn plots_ui(ui: &mut egui::Ui, runs: &[PlotRun], time_label: &str, data: &[D
     egui::Grid::new("plots").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         for (k, q) in QUANTITIES.iter().enumerate() {
             let lines: Vec<&DataLine> = data.iter().filter(|d| d.quantity == q.id).collect();
-            ui.allocate_ui(cell, |ui| quantity_plot_ui(ui, q, runs, &lines, time_label, link, cell, mismatch));
+            ui.allocate_ui(cell, |ui| {
+                quantity_plot_ui(ui, q, runs, &lines, time_label, link, cell, mismatch)
+            });
             if k % 2 == 1 {
                 ui.end_row();
             }
@@ -188,37 +209,66 @@ fn quantity_plot_ui(
             if let Some([a, b]) = mismatch.filter(|_| lo.is_finite() && hi.is_finite()) {
                 let iv = [Interval { start: a, end: b }];
                 if let Some((xs, y0, y1)) = bands(&iv, 1.0, lo, hi) {
-                    p.add(FilledArea::new("mismatch", &xs, &y0, &y1).fill_color(MISMATCH_FILL).allow_hover(false));
+                    p.add(
+                        FilledArea::new("mismatch", &xs, &y0, &y1)
+                            .fill_color(MISMATCH_FILL)
+                            .allow_hover(false),
+                    );
                 }
             }
             for (i, (run, line)) in runs.iter().zip(lines).enumerate() {
                 let color = RUN_COLORS[i % RUN_COLORS.len()];
                 if lo.is_finite() && hi.is_finite() {
-                    for (ivs, fill) in [(run.track.slip_until(run.t), SLIP_FILL), (run.track.lift_off_until(run.t), LIFT_OFF_FILL)] {
+                    for (ivs, fill) in [
+                        (run.track.slip_until(run.t), SLIP_FILL),
+                        (run.track.lift_off_until(run.t), LIFT_OFF_FILL),
+                    ] {
                         if let Some((xs, a, b)) = bands(&ivs, run.time_factor, lo, hi) {
-                            p.add(FilledArea::new("", &xs, &a, &b).fill_color(fill).allow_hover(false));
+                            p.add(
+                                FilledArea::new("", &xs, &a, &b)
+                                    .fill_color(fill)
+                                    .allow_hover(false),
+                            );
                         }
                     }
                 }
-                p.line(Line::new(run.name, PlotPoints::new(line)).color(color).width(1.6 * thick).allow_band(false));
-                if q.id == "F_f" {
-                    if let Some(a) = run.track.analysis() {
-                        let pts: Vec<[f64; 2]> = a
-                            .theta_max_points
-                            .iter()
-                            .filter(|m| m.t <= run.t)
-                            .map(|m| [m.t * run.time_factor, m.f_f])
-                            .collect();
-                        p.points(Points::new(format!("{} at theta_max", run.name), PlotPoints::new(pts)).color(color).radius(2.0));
-                    }
+                p.line(
+                    Line::new(run.name, PlotPoints::new(line))
+                        .color(color)
+                        .width(1.6 * thick)
+                        .allow_band(false),
+                );
+                if q.id == "F_f"
+                    && let Some(a) = run.track.analysis()
+                {
+                    let pts: Vec<[f64; 2]> = a
+                        .theta_max_points
+                        .iter()
+                        .filter(|m| m.t <= run.t)
+                        .map(|m| [m.t * run.time_factor, m.f_f])
+                        .collect();
+                    p.points(
+                        Points::new(format!("{} at theta_max", run.name), PlotPoints::new(pts))
+                            .color(color)
+                            .radius(2.0),
+                    );
                 }
             }
             // The data over the model, thinner: the noise shows, and the model under it.
             for (d, pts) in data.iter().zip(measured) {
-                p.line(Line::new(d.name, PlotPoints::new(pts)).color(d.color).width(1.1 * thick).allow_band(false));
+                p.line(
+                    Line::new(d.name, PlotPoints::new(pts))
+                        .color(d.color)
+                        .width(1.1 * thick)
+                        .allow_band(false),
+                );
             }
             if let Some(run) = runs.first() {
-                p.vline(VLine::new("now", run.t * run.time_factor).color(Color32::from_gray(120)).width(1.0));
+                p.vline(
+                    VLine::new("now", run.t * run.time_factor)
+                        .color(Color32::from_gray(120))
+                        .width(1.0),
+                );
             }
         });
     });

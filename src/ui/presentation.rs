@@ -112,7 +112,9 @@ pub fn projector_style(base: &egui::Style) -> egui::Style {
     let w = &mut v.widgets;
     w.noninteractive.fg_stroke = Stroke::new(1.5, ink);
     w.noninteractive.bg_stroke = Stroke::new(1.5, Color32::from_gray(90));
-    for (state, fill) in [(&mut w.inactive, 225), (&mut w.hovered, 205), (&mut w.active, 185), (&mut w.open, 215)] {
+    for (state, fill) in
+        [(&mut w.inactive, 225), (&mut w.hovered, 205), (&mut w.active, 185), (&mut w.open, 215)]
+    {
         state.bg_fill = Color32::from_gray(fill);
         state.weak_bg_fill = Color32::from_gray(fill);
         state.bg_stroke = Stroke::new(1.5, ink);

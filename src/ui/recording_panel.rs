@@ -4,9 +4,9 @@
 //! these functions only draw it and say what the user asked for.
 
 use super::palette::DATA_COLOR;
+use crate::recording::import::Source;
 use crate::recording::marks::MarkOrder;
 use crate::session::{Fitted, LoadedRecording, RecordingSession};
-use crate::recording::import::Source;
 use eframe::egui::{self, Color32, RichText};
 
 /// What the user asked for.
@@ -51,7 +51,11 @@ pub fn has_messages(session: &RecordingSession) -> bool {
 
 /// The Recording tab of the side panel.
 /// `fit_in_use`: the simulator runs the fitted model now.
-pub fn recording_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, fit_in_use: bool) -> RecordingAction {
+pub fn recording_panel_ui(
+    ui: &mut egui::Ui,
+    session: &RecordingSession,
+    fit_in_use: bool,
+) -> RecordingAction {
     let mut action = RecordingAction::None;
     if let Some(p) = session.loading() {
         ui.horizontal(|ui| {
@@ -62,7 +66,8 @@ pub fn recording_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, fit_in_
     let Some(l) = session.loaded() else {
         ui.label("No recording loaded.");
         ui.label(RichText::new("File > Open recording…, or drop a recording (format v1, or a DeepLabCut, Tracker or TrackMate file) onto the window.").small());
-        if ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…")).clicked() {
+        if ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…")).clicked()
+        {
             action = RecordingAction::Open;
         }
         return action;
@@ -80,23 +85,39 @@ pub fn recording_panel_ui(ui: &mut egui::Ui, session: &RecordingSession, fit_in_
     );
     match session.fit_progress() {
         Some(p) => {
-            ui.add(egui::ProgressBar::new(p.fraction).text(RichText::new(p.text).small()).animate(true));
+            ui.add(
+                egui::ProgressBar::new(p.fraction)
+                    .text(RichText::new(p.text).small())
+                    .animate(true),
+            );
             let cancelling = session.fit_cancelling();
-            if ui.add_enabled(!cancelling, egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" })).clicked() {
+            if ui
+                .add_enabled(
+                    !cancelling,
+                    egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" }),
+                )
+                .clicked()
+            {
                 action = RecordingAction::CancelFit;
             }
         }
         None => {
             let label = if session.fitted().is_some() { "Fit again" } else { "Fit" };
-            if ui.button(label).on_hover_text("runs off the window's thread; the simulator then runs the fitted model").clicked() {
+            if ui
+                .button(label)
+                .on_hover_text(
+                    "runs off the window's thread; the simulator then runs the fitted model",
+                )
+                .clicked()
+            {
                 action = RecordingAction::Fit;
             }
         }
     }
-    if let Some(f) = session.fitted() {
-        if fit_ui(ui, f, fit_in_use) {
-            action = RecordingAction::UseFit;
-        }
+    if let Some(f) = session.fitted()
+        && fit_ui(ui, f, fit_in_use)
+    {
+        action = RecordingAction::UseFit;
     }
     ui.add_space(6.0);
     if ui.button("Close recording").clicked() {
@@ -116,21 +137,46 @@ fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
     let h = &l.recording.header;
     let m = &l.motion;
     egui::Grid::new("recording-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
-        row(ui, "frames", format!("{} at {} fps ({:.2} s)", l.frames().len(), h.fps, l.duration_s()));
+        row(
+            ui,
+            "frames",
+            format!("{} at {} fps ({:.2} s)", l.frames().len(), h.fps, l.duration_s()),
+        );
         let read = &l.import;
         if read.source != Source::Ringlab {
-            row(ui, "read as", format!("{}; marks 1-4: {}", read.source.name(), read.marks.join(", ")));
+            row(
+                ui,
+                "read as",
+                format!("{}; marks 1-4: {}", read.source.name(), read.marks.join(", ")),
+            );
             if read.low_likelihood > 0 {
-                row(ui, "dropped", format!("{} points below the likelihood threshold", read.low_likelihood));
+                row(
+                    ui,
+                    "dropped",
+                    format!("{} points below the likelihood threshold", read.low_likelihood),
+                );
             }
         }
         for n in &read.notes {
             row(ui, "note", n.clone());
         }
         let wall = h.thickness_mm.map(|w| format!(", wall {w} mm")).unwrap_or_default();
-        row(ui, "body", format!("{}, outer radius {} mm, width {} mm{wall}", h.shape.name(), h.outer_radius_mm, h.width_mm));
+        row(
+            ui,
+            "body",
+            format!(
+                "{}, outer radius {} mm, width {} mm{wall}",
+                h.shape.name(),
+                h.outer_radius_mm,
+                h.width_mm
+            ),
+        );
         row(ui, "scale", format!("{} px/mm", h.px_per_mm));
-        row(ui, "pixel noise", m.noise_px.map_or("unknown".into(), |n| format!("{n:.2} px (from the data)")));
+        row(
+            ui,
+            "pixel noise",
+            m.noise_px.map_or("unknown".into(), |n| format!("{n:.2} px (from the data)")),
+        );
         row(ui, "marks missing", format!("{} of {}", l.marks_missing(), 4 * l.frames().len()));
         let spin = if m.spin_sign > 0.0 { "counter-clockwise" } else { "clockwise" };
         let order = match m.mark_order {
@@ -152,22 +198,41 @@ fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
 /// The fit's numbers; true when "use the fitted model" was clicked.
 fn fit_ui(ui: &mut egui::Ui, f: &Fitted, in_use: bool) -> bool {
     let r = &f.result;
-    let pm = |x: f64, s: f64| if s.is_finite() { format!("{x:.4} ± {s:.4}") } else { format!("{x:.4} (not constrained)") };
+    let pm = |x: f64, s: f64| {
+        if s.is_finite() {
+            format!("{x:.4} ± {s:.4}")
+        } else {
+            format!("{x:.4} (not constrained)")
+        }
+    };
     let per_s = 1.0 / r.units.time_s;
     egui::Grid::new("fit-results").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
         for i in 0..3 {
             row(ui, &format!("C{}", i + 1), pm(r.c[i], r.c_sigma[i]));
         }
         row(ui, "theta0", format!("{:.4} rad", r.start.theta));
-        row(ui, "phi'0", format!("{:.4} rad/T ({:.2} rad/s)", r.start.phi_dot, r.start.phi_dot * per_s));
-        row(ui, "psi'0", format!("{:.4} rad/T ({:.2} rad/s)", r.start.psi_dot, r.start.psi_dot * per_s));
-        row(ui, "start", format!("frame {:.2} ({:.4} s)", r.start_frame, r.start_t * r.units.time_s));
+        row(
+            ui,
+            "phi'0",
+            format!("{:.4} rad/T ({:.2} rad/s)", r.start.phi_dot, r.start.phi_dot * per_s),
+        );
+        row(
+            ui,
+            "psi'0",
+            format!("{:.4} rad/T ({:.2} rad/s)", r.start.psi_dot, r.start.psi_dot * per_s),
+        );
+        row(
+            ui,
+            "start",
+            format!("frame {:.2} ({:.4} s)", r.start_frame, r.start_t * r.units.time_s),
+        );
         let noise = r.noise_px.map(|n| format!(" (noise {n:.3} px)")).unwrap_or_default();
         row(ui, "misfit", format!("{:.3} px rms{noise}", r.rms_px));
         row(ui, "frames fitted", format!("{} in {} segments", r.frames_fitted, r.segments.len()));
         // The compute time varies from run to run: on hover only (pictures stay the same).
         ui.label(RichText::new("iterations").small());
-        ui.label(RichText::new(r.iterations.to_string()).small()).on_hover_text(format!("the fit took {:.1} s", r.compute_seconds));
+        ui.label(RichText::new(r.iterations.to_string()).small())
+            .on_hover_text(format!("the fit took {:.1} s", r.compute_seconds));
         ui.end_row();
         row(ui, "units", format!("T = {:.5} s, L = {:.2} mm", r.units.time_s, r.units.length_mm));
     });
@@ -179,7 +244,9 @@ fn fit_ui(ui: &mut egui::Ui, f: &Fitted, in_use: bool) -> bool {
         })
         .small(),
     );
-    ui.button("Use the fitted model").on_hover_text("the fitted drag and start in the simulator again").clicked()
+    ui.button("Use the fitted model")
+        .on_hover_text("the fitted drag and start in the simulator again")
+        .clicked()
 }
 
 /// Over the whole window while a file is dragged over it.
@@ -189,7 +256,10 @@ pub fn drop_hint_ui(ctx: &egui::Context) {
         return;
     }
     let screen = ctx.content_rect();
-    let painter = ctx.layer_painter(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("ringlab-drop-hint")));
+    let painter = ctx.layer_painter(egui::LayerId::new(
+        egui::Order::Foreground,
+        egui::Id::unique("ringlab-drop-hint"),
+    ));
     painter.rect_filled(screen, 0.0, Color32::from_black_alpha(140));
     painter.text(
         screen.center(),

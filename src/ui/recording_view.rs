@@ -32,7 +32,12 @@ pub struct DataView {
 impl DataView {
     /// The recording at display time `seconds` in `units` (the first run's), times on the plots
     /// in units of `plot_time_s` seconds. None without a recording.
-    pub fn at(session: &RecordingSession, units: &Units, seconds: f64, plot_time_s: f64) -> Option<DataView> {
+    pub fn at(
+        session: &RecordingSession,
+        units: &Units,
+        seconds: f64,
+        plot_time_s: f64,
+    ) -> Option<DataView> {
         let l = session.loaded()?;
         let k = Conversion::between(Units::MM_S, *units);
         let len = |p: [f64; 2]| [p[0] * k.length, p[1] * k.length];
@@ -48,12 +53,21 @@ impl DataView {
         };
         let t_of = |i: usize| session.frame_seconds(i).unwrap_or(0.0) / plot_time_s;
         let window = session.mismatch_display_s();
-        let inside = |i: usize| window.is_some_and(|(a, b)| session.frame_seconds(i).is_some_and(|s| s >= a && s <= b));
-        let mismatch_path: Vec<[f64; 2]> =
-            frames.iter().enumerate().filter(|(i, _)| inside(*i)).filter_map(|(_, f)| f.a_mm.map(len)).collect();
-        let mut glitch_frames: Vec<usize> = session.diagnosed().map_or_else(Vec::new, |d| d.result.glitches.iter().map(|g| g.frame).collect());
+        let inside = |i: usize| {
+            window.is_some_and(|(a, b)| session.frame_seconds(i).is_some_and(|s| s >= a && s <= b))
+        };
+        let mismatch_path: Vec<[f64; 2]> = frames
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| inside(*i))
+            .filter_map(|(_, f)| f.a_mm.map(len))
+            .collect();
+        let mut glitch_frames: Vec<usize> = session
+            .diagnosed()
+            .map_or_else(Vec::new, |d| d.result.glitches.iter().map(|g| g.frame).collect());
         glitch_frames.dedup();
-        let glitches: Vec<[f64; 2]> = glitch_frames.iter().filter_map(|&i| frames.get(i)?.a_mm.map(len)).collect();
+        let glitches: Vec<[f64; 2]> =
+            glitch_frames.iter().filter_map(|&i| frames.get(i)?.a_mm.map(len)).collect();
         let mut v_p = Vec::with_capacity(frames.len());
         let mut theta = Vec::with_capacity(frames.len());
         for (i, f) in frames.iter().enumerate() {
@@ -81,17 +95,39 @@ impl DataView {
     /// The path of A, over it the stretch where a diagnosis found the mismatch, and crosses
     /// where it left out a tracker's glitch.
     pub fn overlays(&self) -> Vec<Overlay<'_>> {
-        let mut v = vec![Overlay { points: &self.path, color: DATA_COLOR, now: self.now, width: 1.2, crosses: &[] }];
+        let mut v = vec![Overlay {
+            points: &self.path,
+            color: DATA_COLOR,
+            now: self.now,
+            width: 1.2,
+            crosses: &[],
+        }];
         if self.mismatch_path.len() > 1 || !self.glitches.is_empty() {
-            v.push(Overlay { points: &self.mismatch_path, color: MISMATCH_COLOR, now: None, width: 2.4, crosses: &self.glitches });
+            v.push(Overlay {
+                points: &self.mismatch_path,
+                color: MISMATCH_COLOR,
+                now: None,
+                width: 2.4,
+                crosses: &self.glitches,
+            });
         }
         v
     }
 
     pub fn plot_lines(&self) -> Vec<DataLine<'_>> {
         vec![
-            DataLine { quantity: "v_p", name: &self.name, points: self.v_p.clone(), color: DATA_COLOR },
-            DataLine { quantity: "theta", name: &self.name, points: self.theta.clone(), color: DATA_COLOR },
+            DataLine {
+                quantity: "v_p",
+                name: &self.name,
+                points: self.v_p.clone(),
+                color: DATA_COLOR,
+            },
+            DataLine {
+                quantity: "theta",
+                name: &self.name,
+                points: self.theta.clone(),
+                color: DATA_COLOR,
+            },
         ]
     }
 }

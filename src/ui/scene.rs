@@ -3,7 +3,9 @@
 
 use super::palette::{CONTACT_RGB, DATA_BODY_LINEAR, DATA_RGB, phase_linear, srgb_to_linear};
 use crate::physics::Body;
-use crate::render::{BodyDraw, BodyGeometry, BodyPose, CameraView, OrbitCamera, SceneFrame, TraceSegment, nice_step};
+use crate::render::{
+    BodyDraw, BodyGeometry, BodyPose, CameraView, OrbitCamera, SceneFrame, TraceSegment, nice_step,
+};
 use crate::sim::Track;
 use glam::{Vec2, Vec3};
 
@@ -21,7 +23,11 @@ const MAX_RUN: usize = 64;
 fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
-    let u = if len2 > 0.0 { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let u = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (p[0] - a[0] - u * dx).hypot(p[1] - a[1] - u * dy)
 }
 
@@ -39,7 +45,8 @@ pub fn simplify(pts: &[[f64; 2]], tol: f64, must: impl Fn(usize) -> bool) -> Vec
     let mut i = 1;
     while i < n {
         let fits = i == anchor + 1
-            || (i - anchor <= MAX_RUN && (anchor + 1..i).all(|k| dist_to_segment(pts[k], pts[anchor], pts[i]) <= tol));
+            || (i - anchor <= MAX_RUN
+                && (anchor + 1..i).all(|k| dist_to_segment(pts[k], pts[anchor], pts[i]) <= tol));
         if !fits {
             keep.push(i - 1);
             anchor = i - 1;
@@ -67,7 +74,10 @@ pub fn follow_point(track: &Track, t: f64) -> Option<Vec2> {
     let from = recent.partition_point(|s| s.t < t - period);
     let window = &recent[from..];
     if window.is_empty() {
-        return recent.last().or(track.samples().first()).map(|s| Vec2::new(s.x_c() as f32, s.y_c() as f32));
+        return recent
+            .last()
+            .or(track.samples().first())
+            .map(|s| Vec2::new(s.x_c() as f32, s.y_c() as f32));
     }
     let n = window.len() as f64;
     let (x, y) = window.iter().fold((0.0, 0.0), |(x, y), s| (x + s.x_c(), y + s.y_c()));
@@ -99,14 +109,23 @@ pub fn trace_segments(track: &Track, t: f64, show_contact: bool) -> Vec<TraceSeg
     let v = |p: [f64; 2]| Vec2::new(p[0] as f32, p[1] as f32);
     if show_contact {
         let c = CONTACT_RGB.map(|x| srgb_to_linear(x as f32 / 255.0));
-        let period = track.start().map_or(f64::INFINITY, |s| std::f64::consts::TAU / s.phi_dot().abs().max(1e-9));
+        let period = track
+            .start()
+            .map_or(f64::INFINITY, |s| std::f64::consts::TAU / s.phi_dot().abs().max(1e-9));
         let trail = &path[path.partition_point(|q| q.t < t - CONTACT_TRAIL_PERIODS * period)..];
         let p: Vec<[f64; 2]> = trail.iter().map(|q| q.p).collect();
         let kept = simplify(&p, 0.002 * r as f64, |_| false);
         for w in kept.windows(2) {
             // Fading out towards the start of the trail.
-            let age = ((t - trail[w[0]].t) / (CONTACT_TRAIL_PERIODS * period)).clamp(0.0, 1.0) as f32;
-            out.push(TraceSegment::new(v(p[w[0]]), v(p[w[1]]), [c[0], c[1], c[2], 0.6 * (1.0 - age)], 0.012 * r, 0.6));
+            let age =
+                ((t - trail[w[0]].t) / (CONTACT_TRAIL_PERIODS * period)).clamp(0.0, 1.0) as f32;
+            out.push(TraceSegment::new(
+                v(p[w[0]]),
+                v(p[w[1]]),
+                [c[0], c[1], c[2], 0.6 * (1.0 - age)],
+                0.012 * r,
+                0.6,
+            ));
         }
     }
     let hw = 0.028 * r;
@@ -119,12 +138,12 @@ pub fn trace_segments(track: &Track, t: f64, show_contact: bool) -> Vec<TraceSeg
     }
     let dark = [0.02, 0.02, 0.03, 0.9];
     circle(&mut out, v(first.a), 0.12 * r, dark, 0.015 * r);
-    if let Some(ti) = track.inflection_time().filter(|&ti| ti <= t) {
-        if let Some(s) = track.state_at(ti) {
-            let p = Vec2::new(s.sample.x_a as f32, s.sample.y_a as f32);
-            circle(&mut out, p, 0.22 * r, dark, 0.02 * r);
-            circle(&mut out, p, 0.06 * r, dark, 0.03 * r);
-        }
+    if let Some(ti) = track.inflection_time().filter(|&ti| ti <= t)
+        && let Some(s) = track.state_at(ti)
+    {
+        let p = Vec2::new(s.sample.x_a as f32, s.sample.y_a as f32);
+        circle(&mut out, p, 0.22 * r, dark, 0.02 * r);
+        circle(&mut out, p, 0.06 * r, dark, 0.03 * r);
     }
     out
 }
@@ -134,18 +153,29 @@ pub fn body_draw(track: &Track, t: f64, color: [f32; 3]) -> Option<BodyDraw> {
     let s = track.state_at(t)?.sample;
     let body = &track.case().model.body;
     let pose = BodyPose::new(&s, body);
-    Some(BodyDraw { geometry: body_geometry(body), world_from_ring: pose.world_from_ring, color, contact: pose.contact, yields: false })
+    Some(BodyDraw {
+        geometry: body_geometry(body),
+        world_from_ring: pose.world_from_ring,
+        color,
+        contact: pose.contact,
+        yields: false,
+    })
 }
 
 /// One view's frame: `track` at `t` seen by `camera`, its target moved to the followed point
 /// when `follow`.
-pub fn scene_frame(track: &Track, t: f64, camera: &OrbitCamera, follow: bool, show_contact: bool, color: [f32; 3]) -> SceneFrame {
+pub fn scene_frame(
+    track: &Track,
+    t: f64,
+    camera: &OrbitCamera,
+    follow: bool,
+    show_contact: bool,
+    color: [f32; 3],
+) -> SceneFrame {
     let r = track.case().model.body.r as f32;
     let mut cam = *camera;
-    if follow {
-        if let Some(p) = follow_point(track, t) {
-            cam.target = [p.x, p.y, 0.0];
-        }
+    if follow && let Some(p) = follow_point(track, t) {
+        cam.target = [p.x, p.y, 0.0];
     }
     let view: CameraView = cam.view();
     SceneFrame {
@@ -166,7 +196,13 @@ pub fn add_recording(frame: &mut SceneFrame, path: &[[f64; 2]], ring: Option<(&B
     let v = |p: [f64; 2]| Vec2::new(p[0] as f32, p[1] as f32);
     // Narrower than the model's path, so that where they agree both show.
     for w in simplify(path, 0.002 * r as f64, |_| false).windows(2) {
-        frame.traces.push(TraceSegment::new(v(path[w[0]]), v(path[w[1]]), [cr, cg, cb, 0.95], 0.014 * r, 0.7));
+        frame.traces.push(TraceSegment::new(
+            v(path[w[0]]),
+            v(path[w[1]]),
+            [cr, cg, cb, 0.95],
+            0.014 * r,
+            0.7,
+        ));
     }
     if let Some((body, pose)) = ring {
         frame.bodies.push(BodyDraw {
@@ -189,10 +225,12 @@ mod tests {
         pts.extend((1..50).map(|k| [49.0, k as f64]));
         let kept = simplify(&pts, 0.01, |i| i == 10);
         assert_eq!(kept, vec![0, 10, 49, 98]);
-        let circle: Vec<[f64; 2]> = (0..=360).map(|d| {
-            let a = (d as f64).to_radians();
-            [a.cos(), a.sin()]
-        }).collect();
+        let circle: Vec<[f64; 2]> = (0..=360)
+            .map(|d| {
+                let a = (d as f64).to_radians();
+                [a.cos(), a.sin()]
+            })
+            .collect();
         let kept = simplify(&circle, 1e-3, |_| false);
         assert!(kept.len() > 10 && kept.len() < 100, "{} points kept", kept.len());
         for w in kept.windows(2) {

@@ -72,7 +72,8 @@ impl Detail3d {
 
 /// A compiled-in preset (they are part of the binary and checked by the tests).
 pub(super) fn builtin(name: &str) -> CaseFile {
-    let text = BUILTIN_PRESETS.iter().find(|p| p.0 == name).map(|p| p.1).unwrap_or(BUILTIN_PRESETS[0].1);
+    let text =
+        BUILTIN_PRESETS.iter().find(|p| p.0 == name).map(|p| p.1).unwrap_or(BUILTIN_PRESETS[0].1);
     CaseFile::parse(text, std::path::Path::new(name)).expect("compiled-in presets parse")
 }
 
@@ -99,7 +100,6 @@ impl Default for Settings {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,7 +110,12 @@ mod tests {
         assert_eq!(Detail3d::Auto.scale(true), FAST_3D_SCALE);
         assert_eq!(Detail3d::Full.scale(true), 1.0);
         assert_eq!(Detail3d::Fast.scale(false), FAST_3D_SCALE);
-        assert!(FAST_3D_SCALE * FAST_3D_SCALE < 0.55, "fast draws about half the pixels or fewer");
+        const {
+            assert!(
+                FAST_3D_SCALE * FAST_3D_SCALE < 0.55,
+                "fast draws about half the pixels or fewer"
+            )
+        };
     }
 
     #[test]
@@ -128,6 +133,9 @@ mod tests {
         o.remove("zoom");
         o.remove("presentation_zoom");
         let s: Settings = serde_json::from_value(v).expect("loads");
-        assert_eq!((s.zoom, s.presentation_zoom), (1.0, super::super::presentation::PRESENTATION_ZOOM));
+        assert_eq!(
+            (s.zoom, s.presentation_zoom),
+            (1.0, super::super::presentation::PRESENTATION_ZOOM)
+        );
     }
 }

@@ -50,7 +50,11 @@ pub fn phase_words(track: &Track, t: f64) -> (String, egui::Color32) {
 pub fn friction_words(track: &Track, t: f64) -> Option<String> {
     let a = track.analysis()?;
     let p = a.theta_max_points.iter().rev().find(|p| p.t <= t)?;
-    let sense = if p.f_f > 0.0 { "bends the path with the spin" } else { "bends the path against the spin" };
+    let sense = if p.f_f > 0.0 {
+        "bends the path with the spin"
+    } else {
+        "bends the path against the spin"
+    };
     Some(format!("F_f at the last lowest point: {:+.3} ({sense})", p.f_f))
 }
 
@@ -76,7 +80,11 @@ pub fn why_note_ui(ui: &mut egui::Ui) {
 /// The legend of phase colours.
 pub fn phase_legend_ui(ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
-        for (p, name) in [(Phase::Prograde, "prograde"), (Phase::Walk, "walk"), (Phase::Retrograde, "retrograde")] {
+        for (p, name) in [
+            (Phase::Prograde, "prograde"),
+            (Phase::Walk, "walk"),
+            (Phase::Retrograde, "retrograde"),
+        ] {
             swatch_ui(ui, phase_color(Some(p)));
             ui.label(name);
         }

@@ -113,20 +113,6 @@ fn fmt_len(x: f64) -> String {
     s.to_string()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::fmt_len;
-
-    #[test]
-    fn lengths_read_well() {
-        assert_eq!(fmt_len(4.032), "4.03");
-        assert_eq!(fmt_len(0.2), "0.2");
-        assert_eq!(fmt_len(40.32), "40.3");
-        assert_eq!(fmt_len(200.0), "200");
-        assert_eq!(fmt_len(0.05), "0.05");
-    }
-}
-
 /// Another path drawn over the model's (a recording's point A), in the track's units and
 /// frame.
 pub struct Overlay<'a> {
@@ -143,7 +129,14 @@ pub struct Overlay<'a> {
 
 /// Draws the panel for `track` at its time `t`, filling the space given. `bounds`: the region
 /// to show (shared by panels side by side so that they have one scale).
-pub fn trace_panel_ui(ui: &mut egui::Ui, title: &str, track: &Track, t: f64, show_contact: bool, bounds: Option<Bounds>) {
+pub fn trace_panel_ui(
+    ui: &mut egui::Ui,
+    title: &str,
+    track: &Track,
+    t: f64,
+    show_contact: bool,
+    bounds: Option<Bounds>,
+) {
     trace_panel_with_ui(ui, title, track, t, show_contact, bounds, &[]);
 }
 
@@ -163,12 +156,29 @@ pub fn trace_panel_with_ui(
     // Thicker paths in presentation mode.
     let thick = super::presentation::line_scale(ui.ctx());
     // No fill: the panel's own background shows (filled pixels cost on a software rasteriser).
-    painter.rect_stroke(rect, 4.0, Stroke::new(1.0, Color32::from_gray(170)), egui::StrokeKind::Inside);
+    painter.rect_stroke(
+        rect,
+        4.0,
+        Stroke::new(1.0, Color32::from_gray(170)),
+        egui::StrokeKind::Inside,
+    );
     let font = FontId::proportional(12.0);
-    painter.text(rect.left_top() + Vec2::new(8.0, 6.0), Align2::LEFT_TOP, title, FontId::proportional(13.0), INK);
+    painter.text(
+        rect.left_top() + Vec2::new(8.0, 6.0),
+        Align2::LEFT_TOP,
+        title,
+        FontId::proportional(13.0),
+        INK,
+    );
     let r = track.case().model.body.r;
     let Some(b) = bounds.or_else(|| Bounds::of(track, show_contact)) else {
-        painter.text(rect.center(), Align2::CENTER_CENTER, "waiting for the first states", font, INK);
+        painter.text(
+            rect.center(),
+            Align2::CENTER_CENTER,
+            "waiting for the first states",
+            font,
+            INK,
+        );
         return;
     };
     let plot = rect.shrink2(Vec2::new(10.0, 26.0));
@@ -199,7 +209,8 @@ pub fn trace_panel_with_ui(
     // Half a pixel of error is invisible; most output states are not needed to draw the arcs.
     let tol = 0.5 / map.px_per_unit;
     if show_contact && path.len() > 1 {
-        let c = Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]).gamma_multiply(0.45);
+        let c =
+            Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]).gamma_multiply(0.45);
         let p: Vec<[f64; 2]> = path.iter().map(|q| q.p).collect();
         let kept = simplify(&p, tol, |_| false);
         painter.add(Shape::line(kept.iter().map(|&i| scr(p[i])).collect(), Stroke::new(1.0, c)));
@@ -215,7 +226,10 @@ pub fn trace_panel_with_ui(
         let p = scr(a[i]);
         if k > 0 && phase != run_phase && !run.is_empty() {
             run.push(p);
-            painter.add(Shape::line(std::mem::take(&mut run), Stroke::new(1.8 * thick, phase_color(run_phase))));
+            painter.add(Shape::line(
+                std::mem::take(&mut run),
+                Stroke::new(1.8 * thick, phase_color(run_phase)),
+            ));
         }
         run_phase = phase;
         run.push(p);
@@ -227,7 +241,10 @@ pub fn trace_panel_with_ui(
     for o in overlays {
         let kept = simplify(o.points, tol, |_| false);
         if kept.len() > 1 {
-            painter.add(Shape::line(kept.iter().map(|&i| scr(o.points[i])).collect(), Stroke::new(o.width * thick, o.color)));
+            painter.add(Shape::line(
+                kept.iter().map(|&i| scr(o.points[i])).collect(),
+                Stroke::new(o.width * thick, o.color),
+            ));
         }
     }
 
@@ -236,17 +253,21 @@ pub fn trace_panel_with_ui(
         painter.circle_stroke(p, 5.0, Stroke::new(1.5, INK));
         painter.text(p + Vec2::new(7.0, -7.0), Align2::LEFT_BOTTOM, "start", font.clone(), INK);
     }
-    if let Some(ti) = track.inflection_time().filter(|&ti| ti <= t) {
-        if let Some(s) = track.state_at(ti) {
-            let p = map.to_screen(s.sample.x_a, s.sample.y_a);
-            painter.circle_stroke(p, 7.0, Stroke::new(2.0, INK));
-            painter.circle_filled(p, 2.5, INK);
-            painter.text(p + Vec2::new(9.0, 9.0), Align2::LEFT_TOP, "inflection", font.clone(), INK);
-        }
+    if let Some(ti) = track.inflection_time().filter(|&ti| ti <= t)
+        && let Some(s) = track.state_at(ti)
+    {
+        let p = map.to_screen(s.sample.x_a, s.sample.y_a);
+        painter.circle_stroke(p, 7.0, Stroke::new(2.0, INK));
+        painter.circle_filled(p, 2.5, INK);
+        painter.text(p + Vec2::new(9.0, 9.0), Align2::LEFT_TOP, "inflection", font.clone(), INK);
     }
     if let Some(n) = track.state_at(t).map(|s| s.sample) {
         if show_contact {
-            painter.circle_filled(map.to_screen(n.x_p, n.y_p), 3.0, Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]));
+            painter.circle_filled(
+                map.to_screen(n.x_p, n.y_p),
+                3.0,
+                Color32::from_rgb(CONTACT_RGB[0], CONTACT_RGB[1], CONTACT_RGB[2]),
+            );
         }
         let p = map.to_screen(n.x_a, n.y_a);
         painter.circle_filled(p, 5.0, phase_color(track.phase_at(t)));
@@ -276,7 +297,30 @@ pub fn trace_panel_with_ui(
     let bz = a + Vec2::new(bar_px, 0.0);
     painter.line_segment([a, bz], Stroke::new(2.0, INK));
     for p in [a, bz] {
-        painter.line_segment([p - Vec2::new(0.0, 4.0), p + Vec2::new(0.0, 4.0)], Stroke::new(1.5, INK));
+        painter.line_segment(
+            [p - Vec2::new(0.0, 4.0), p + Vec2::new(0.0, 4.0)],
+            Stroke::new(1.5, INK),
+        );
     }
-    painter.text(a + Vec2::new(bar_px + 6.0, 0.0), Align2::LEFT_CENTER, length_label(bar, &units), font, INK);
+    painter.text(
+        a + Vec2::new(bar_px + 6.0, 0.0),
+        Align2::LEFT_CENTER,
+        length_label(bar, &units),
+        font,
+        INK,
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_len;
+
+    #[test]
+    fn lengths_read_well() {
+        assert_eq!(fmt_len(4.032), "4.03");
+        assert_eq!(fmt_len(0.2), "0.2");
+        assert_eq!(fmt_len(40.32), "40.3");
+        assert_eq!(fmt_len(200.0), "200");
+        assert_eq!(fmt_len(0.05), "0.05");
+    }
 }

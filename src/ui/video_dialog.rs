@@ -53,10 +53,17 @@ pub enum VideoDialogAction {
 }
 
 /// The window (nothing when closed). `time` is the time unit's label, `time_s` its seconds.
-pub fn video_dialog_ui(ctx: &egui::Context, d: &mut VideoDialog, exports: &ExportSession, time: &str, time_s: f64) -> VideoDialogAction {
+pub fn video_dialog_ui(
+    ctx: &egui::Context,
+    d: &mut VideoDialog,
+    exports: &ExportSession,
+    time: &str,
+    time_s: f64,
+) -> VideoDialogAction {
     let mut action = VideoDialogAction::None;
     let mut open = d.open;
-    let window = egui::Window::new("Export video").open(&mut open).resizable(false).collapsible(false);
+    let window =
+        egui::Window::new("Export video").open(&mut open).resizable(false).collapsible(false);
     // In the middle, off the top bar and the message strip (where the outcome is said).
     let window = window.pivot(egui::Align2::CENTER_CENTER).default_pos(ctx.content_rect().center());
     window.show(ctx, |ui| {
@@ -69,21 +76,41 @@ pub fn video_dialog_ui(ctx: &egui::Context, d: &mut VideoDialog, exports: &Expor
             });
             ui.end_row();
             let l = ui.label("from");
-            ui.add(DragValue::new(&mut d.spec.from).range(0.0..=f64::MAX).speed(0.5).suffix(format!(" {time}"))).labelled_by(l.id);
+            ui.add(
+                DragValue::new(&mut d.spec.from)
+                    .range(0.0..=f64::MAX)
+                    .speed(0.5)
+                    .suffix(format!(" {time}")),
+            )
+            .labelled_by(l.id);
             ui.end_row();
             let l = ui.label("to");
-            ui.add(DragValue::new(&mut d.spec.to).range(0.0..=f64::MAX).speed(0.5).suffix(format!(" {time}"))).labelled_by(l.id);
+            ui.add(
+                DragValue::new(&mut d.spec.to)
+                    .range(0.0..=f64::MAX)
+                    .speed(0.5)
+                    .suffix(format!(" {time}")),
+            )
+            .labelled_by(l.id);
             ui.end_row();
             let l = ui.label("frames per second");
             ui.add(DragValue::new(&mut d.spec.fps).range(1.0..=120.0).speed(1.0)).labelled_by(l.id);
             ui.end_row();
             let l = ui.label("speed");
-            ui.add(DragValue::new(&mut d.spec.speed).range(SPEED_MIN..=SPEED_MAX).speed(0.01).suffix("x real time")).labelled_by(l.id);
+            ui.add(
+                DragValue::new(&mut d.spec.speed)
+                    .range(SPEED_MIN..=SPEED_MAX)
+                    .speed(0.01)
+                    .suffix("x real time"),
+            )
+            .labelled_by(l.id);
             ui.end_row();
             let l = ui.label("size (pixels)");
             ui.horizontal(|ui| {
-                ui.add(DragValue::new(&mut d.size[0]).range(16..=4096).prefix("w ")).labelled_by(l.id);
-                ui.add(DragValue::new(&mut d.size[1]).range(16..=4096).prefix("h ")).labelled_by(l.id);
+                ui.add(DragValue::new(&mut d.size[0]).range(16..=4096).prefix("w "))
+                    .labelled_by(l.id);
+                ui.add(DragValue::new(&mut d.size[1]).range(16..=4096).prefix("h "))
+                    .labelled_by(l.id);
             });
             ui.end_row();
             ui.label("file");
@@ -95,7 +122,13 @@ pub fn video_dialog_ui(ctx: &egui::Context, d: &mut VideoDialog, exports: &Expor
         });
         let problem = d.spec.check(d.format).err().or_else(|| d.spec.frame_times(time_s).err());
         let frames = d.spec.frame_times(time_s).map(|t| t.len()).unwrap_or(0);
-        ui.label(RichText::new(format!("{frames} frames, {:.1} s of video", frames as f64 / d.spec.fps.max(1.0))).small());
+        ui.label(
+            RichText::new(format!(
+                "{frames} frames, {:.1} s of video",
+                frames as f64 / d.spec.fps.max(1.0)
+            ))
+            .small(),
+        );
         if let Some(p) = &problem {
             ui.colored_label(Color32::from_rgb(190, 20, 20), p.replace("--", ""));
         }
@@ -103,13 +136,25 @@ pub fn video_dialog_ui(ctx: &egui::Context, d: &mut VideoDialog, exports: &Expor
             Some(p) => {
                 ui.add(egui::ProgressBar::new(p.fraction).text(p.text).animate(true));
                 let cancelling = exports.video_cancelling();
-                if ui.add_enabled(!cancelling, egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" })).clicked() {
+                if ui
+                    .add_enabled(
+                        !cancelling,
+                        egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" }),
+                    )
+                    .clicked()
+                {
                     action = VideoDialogAction::Cancel;
                 }
             }
             None => {
                 let ok = problem.is_none() && !exports.dialog_open();
-                if ui.add_enabled(ok, egui::Button::new("Export…")).on_hover_text("choose the file, then the video is made off the window's thread").clicked() {
+                if ui
+                    .add_enabled(ok, egui::Button::new("Export…"))
+                    .on_hover_text(
+                        "choose the file, then the video is made off the window's thread",
+                    )
+                    .clicked()
+                {
                     action = VideoDialogAction::Export(d.request());
                 }
             }

@@ -18,7 +18,13 @@ pub fn view3d_ui(
 ) -> Vec<Rect> {
     let size = ui.available_size().max(egui::vec2(40.0, 40.0));
     let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
-    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view: drag to turn, scroll to zoom, double-click to reset"));
+    response.widget_info(|| {
+        egui::WidgetInfo::labeled(
+            egui::Role::Canvas,
+            true,
+            "3D view: drag to turn, scroll to zoom, double-click to reset",
+        )
+    });
     if response.dragged() {
         let d = response.drag_delta();
         camera.orbit(d.x, d.y);
@@ -36,7 +42,12 @@ pub fn view3d_ui(
     let gap = 4.0;
     let w = (rect.width() - gap * (n as f32 - 1.0)) / n as f32;
     let rects: Vec<Rect> = (0..n)
-        .map(|i| Rect::from_min_size(rect.min + egui::vec2(i as f32 * (w + gap), 0.0), egui::vec2(w, rect.height())))
+        .map(|i| {
+            Rect::from_min_size(
+                rect.min + egui::vec2(i as f32 * (w + gap), 0.0),
+                egui::vec2(w, rect.height()),
+            )
+        })
         .collect();
     for (i, r) in rects.iter().enumerate() {
         ui.painter().add(paint_callback(i, *r, scale, frame(i, camera)));

@@ -68,7 +68,8 @@ pub fn deeplabcut_text(rec: &ringlab::recording::Recording) -> String {
 pub fn gif_frames(path: &Path) -> Vec<image::RgbaImage> {
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::RGBA);
-    let mut d = opts.read_info(std::fs::File::open(path).expect("the GIF is there")).expect("a GIF");
+    let mut d =
+        opts.read_info(std::fs::File::open(path).expect("the GIF is there")).expect("a GIF");
     let (w, h) = (d.width() as u32, d.height() as u32);
     let mut canvas = image::RgbaImage::new(w, h);
     let mut frames = Vec::new();

@@ -9,8 +9,10 @@
 //! unit then follows) or `"mm"` (mm, s, `g = 9810 mm/s^2`). Angles are in rad, rates in rad
 //! per time unit. Drag coefficients are dimensionless in both.
 
-use crate::physics::{Body, Conversion, Effects, Initial, Model, ReynoldsDrag, RunOptions, Shape, Units};
 use crate::physics::integrator::Tolerances;
+use crate::physics::{
+    Body, Conversion, Effects, Initial, Model, ReynoldsDrag, RunOptions, Shape, Units,
+};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -176,7 +178,8 @@ pub struct Case {
 
 impl CaseFile {
     pub fn parse(text: &str, path: &Path) -> Result<CaseFile, ConfigError> {
-        toml::from_str(text).map_err(|e| ConfigError::Parse { path: path.to_path_buf(), message: e.to_string() })
+        toml::from_str(text)
+            .map_err(|e| ConfigError::Parse { path: path.to_path_buf(), message: e.to_string() })
     }
 
     pub fn units(&self) -> Result<Units, String> {
@@ -188,7 +191,10 @@ impl CaseFile {
                 Ok(Units::MM_S)
             }
             "model" => {
-                let l = self.units.mean_radius_mm.ok_or("[units] system = \"model\" needs mean_radius_mm")?;
+                let l = self
+                    .units
+                    .mean_radius_mm
+                    .ok_or("[units] system = \"model\" needs mean_radius_mm")?;
                 let g = self.units.g.ok_or("[units] system = \"model\" needs g")?;
                 if !(l.is_finite() && l > 0.0) {
                     return Err(format!("[units] mean_radius_mm = {l} must be a positive number"));
@@ -205,18 +211,27 @@ impl CaseFile {
     /// Validates everything and builds the case.
     pub fn build(&self) -> Result<Case, String> {
         let units = self.units()?;
-        let shape = Shape::parse(&self.body.shape)
-            .ok_or_else(|| format!("[body] shape = \"{}\" is not one of \"ring\", \"disk\"", self.body.shape))?;
+        let shape = Shape::parse(&self.body.shape).ok_or_else(|| {
+            format!("[body] shape = \"{}\" is not one of \"ring\", \"disk\"", self.body.shape)
+        })?;
         let w = match (shape, self.body.thickness) {
-            (Shape::Ring, None) => return Err("[body] a ring needs thickness (wall thickness w)".into()),
+            (Shape::Ring, None) => {
+                return Err("[body] a ring needs thickness (wall thickness w)".into());
+            }
             (Shape::Ring, Some(w)) => w,
             (Shape::Disk, w) => w.unwrap_or(self.body.outer_radius),
         };
-        let body = Body::new(shape, self.body.outer_radius, self.body.width, w).map_err(|e| format!("[body] {e}"))?;
-        let model = Model::new(body, units.g(), self.drag.c, units.nu_air()).map_err(|e| format!("[drag] {e}"))?;
+        let body = Body::new(shape, self.body.outer_radius, self.body.width, w)
+            .map_err(|e| format!("[body] {e}"))?;
+        let model = Model::new(body, units.g(), self.drag.c, units.nu_air())
+            .map_err(|e| format!("[drag] {e}"))?;
         let e = &self.effects;
         let effects = Effects {
-            reynolds_drag: e.reynolds_drag.map(|[re_ref, exponent, max_factor]| ReynoldsDrag { re_ref, exponent, max_factor }),
+            reynolds_drag: e.reynolds_drag.map(|[re_ref, exponent, max_factor]| ReynoldsDrag {
+                re_ref,
+                exponent,
+                max_factor,
+            }),
             rolling_friction: e.rolling_friction,
             pivot_friction: e.pivot_friction,
             translational_drag: e.translational_drag,
@@ -259,7 +274,8 @@ impl CaseFile {
 
 /// Reads and validates a case file.
 pub fn load_case_file(path: &Path) -> Result<CaseFile, ConfigError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io { path: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|source| ConfigError::Io { path: path.to_path_buf(), source })?;
     let file = CaseFile::parse(&text, path)?;
     file.build().map_err(|message| ConfigError::Invalid { path: path.to_path_buf(), message })?;
     Ok(file)
@@ -288,7 +304,8 @@ pub fn save_case_file(path: &Path, file: &CaseFile) -> Result<(), ConfigError> {
     let invalid = |message: String| ConfigError::Invalid { path: path.to_path_buf(), message };
     file.build().map_err(|m| invalid(format!("the case is not valid, not saved: {m}")))?;
     let text = file.to_toml().map_err(invalid)?;
-    std::fs::write(path, text).map_err(|source| ConfigError::Write { path: path.to_path_buf(), source })
+    std::fs::write(path, text)
+        .map_err(|source| ConfigError::Write { path: path.to_path_buf(), source })
 }
 
 /// Names of all presets.
@@ -317,7 +334,10 @@ pub fn load_preset(name: &str) -> Result<CaseFile, ConfigError> {
             file.build().map_err(|message| ConfigError::Invalid { path, message })?;
             Ok(file)
         }
-        None => Err(ConfigError::UnknownPreset { name: name.to_string(), available: preset_names().join(", ") }),
+        None => Err(ConfigError::UnknownPreset {
+            name: name.to_string(),
+            available: preset_names().join(", "),
+        }),
     }
 }
 
@@ -328,7 +348,8 @@ impl Case {
     pub fn in_units(&self, to: Units) -> Result<Case, String> {
         let k = Conversion::between(self.units, to);
         let b = &self.model.body;
-        let body = Body::new(b.shape, b.r * k.length, b.h * k.length, b.w * k.length).map_err(|e| e.to_string())?;
+        let body = Body::new(b.shape, b.r * k.length, b.h * k.length, b.w * k.length)
+            .map_err(|e| e.to_string())?;
         let e = self.model.effects;
         let effects = Effects {
             reynolds_drag: e.reynolds_drag,

@@ -8,8 +8,28 @@ use std::io::{self, Write};
 
 /// Columns of the sample CSV, in order.
 pub const CSV_COLUMNS: &[&str] = &[
-    "t", "phi", "theta", "psi", "w1", "w2", "w3", "x_c", "y_c", "z_c", "x_a", "y_a", "x_p", "y_p", "v_p", "f_1",
-    "f_f", "f_n", "energy", "reynolds", "sliding", "slip_speed",
+    "t",
+    "phi",
+    "theta",
+    "psi",
+    "w1",
+    "w2",
+    "w3",
+    "x_c",
+    "y_c",
+    "z_c",
+    "x_a",
+    "y_a",
+    "x_p",
+    "y_p",
+    "v_p",
+    "f_1",
+    "f_f",
+    "f_n",
+    "energy",
+    "reynolds",
+    "sliding",
+    "slip_speed",
 ];
 
 /// Writes samples as CSV with a header line.
@@ -20,8 +40,28 @@ pub fn write_samples_csv(out: &mut impl Write, samples: &[Sample]) -> io::Result
         writeln!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            s.t, y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7], s.z_c, s.x_a, s.y_a, s.x_p, s.y_p, s.v_p, s.f_1, s.f_f,
-            s.f_n, s.energy, s.reynolds, s.sliding as u8, s.slip_speed
+            s.t,
+            y[0],
+            y[1],
+            y[2],
+            y[3],
+            y[4],
+            y[5],
+            y[6],
+            y[7],
+            s.z_c,
+            s.x_a,
+            s.y_a,
+            s.x_p,
+            s.y_p,
+            s.v_p,
+            s.f_1,
+            s.f_f,
+            s.f_n,
+            s.energy,
+            s.reynolds,
+            s.sliding as u8,
+            s.slip_speed
         )?;
     }
     Ok(())
@@ -123,7 +163,11 @@ impl RunReport {
             sliding: pairs(&summary.sliding),
             sliding_total: summary.sliding.iter().map(|i| i.end - i.start).sum(),
             stick_residual: summary.stick_residual,
-            friction_ratio_at_theta_max: motion.theta_max_points.iter().map(|p| p.friction_ratio).collect(),
+            friction_ratio_at_theta_max: motion
+                .theta_max_points
+                .iter()
+                .map(|p| p.friction_ratio)
+                .collect(),
             f_f_at_theta_max: motion.theta_max_points.iter().map(|p| [p.t, p.f_f]).collect(),
             theta_min: motion.theta_min.iter().map(|&(t, th)| [t, th]).collect(),
             theta_max: motion.theta_max.iter().map(|&(t, th)| [t, th]).collect(),
@@ -178,12 +222,17 @@ impl RunReport {
         s += &format!(
             "retrograde turn: {}{}; {} prograde cycles before the walk, {} cycles before the retrograde turn\n",
             if self.retrograde_turn { "yes" } else { "no" },
-            self.inflection_time.map(|t| format!(" (inflection at t = {t:.2})")).unwrap_or_default(),
+            self.inflection_time
+                .map(|t| format!(" (inflection at t = {t:.2})"))
+                .unwrap_or_default(),
             self.prograde_cycles,
             self.cycles_before_retrograde
         );
         if !self.lift_off.is_empty() {
-            s += &format!("MODEL INVALID: F_N <= 0 (the body would leave the table) for t in {}\n", fmt_iv(&self.lift_off));
+            s += &format!(
+                "MODEL INVALID: F_N <= 0 (the body would leave the table) for t in {}\n",
+                fmt_iv(&self.lift_off)
+            );
         }
         if let Some(mu) = self.slip_mu {
             if self.sliding.is_empty() {

@@ -7,7 +7,10 @@
 //! recording: see `cli_diagnose.rs`.
 
 use ringlab_core::analysis::diagnose::concealed::concealed_recording;
-use ringlab_core::analysis::diagnose::{Diagnosis, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, diagnose, explained_share};
+use ringlab_core::analysis::diagnose::{
+    DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, Diagnosis, diagnose,
+    explained_share,
+};
 use ringlab_core::physics::EffectKind;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
@@ -19,22 +22,37 @@ const NOISE_PX: f64 = 0.5;
 fn run(kind: EffectKind) -> (Diagnosis, f64) {
     let (rec, truth) = concealed_recording(kind, SEED).expect("a concealed recording");
     assert!(rec.header.extra.is_empty(), "the header must not tell");
-    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).expect("a diagnosis");
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .expect("a diagnosis");
     (d, truth.strength)
 }
 
 /// What every diagnosis must hold, whatever it names. The noise is estimated from each mark's
 /// track alone, so a lens does not move it (it did when it came from the marks' circle).
 fn consistent(d: &Diagnosis, lens: bool) {
-    assert_eq!(d.candidates.len(), EffectKind::ALL.len(), "every effect and the baseline are ranked");
+    assert_eq!(
+        d.candidates.len(),
+        EffectKind::ALL.len(),
+        "every effect and the baseline are ranked"
+    );
     assert!(d.candidates.windows(2).all(|w| w[0].score <= w[1].score), "ranked by score");
-    let none = d.candidates.iter().find(|c| c.effect == EffectKind::None).expect("the baseline is ranked");
+    let none =
+        d.candidates.iter().find(|c| c.effect == EffectKind::None).expect("the baseline is ranked");
     assert_eq!(none.delta_score, 0.0);
-    assert!((none.rms_px - d.before.rms_px).abs() < 1e-12, "the ranking and 'before' are the same misfit");
-    assert_eq!(d.before.residual_count, d.after.residual_count, "before and after over the same residuals");
+    assert!(
+        (none.rms_px - d.before.rms_px).abs() < 1e-12,
+        "the ranking and 'before' are the same misfit"
+    );
+    assert_eq!(
+        d.before.residual_count, d.after.residual_count,
+        "before and after over the same residuals"
+    );
     assert!(d.after.rms_px <= d.before.rms_px + 1e-9);
     let n = d.frames_fitted;
-    assert_eq!((d.residuals.t_s.len(), d.residuals.before_px.len(), d.residuals.after_px.len()), (n, n, n));
+    assert_eq!(
+        (d.residuals.t_s.len(), d.residuals.before_px.len(), d.residuals.after_px.len()),
+        (n, n, n)
+    );
     assert_eq!((d.trace.before_px.len(), d.trace.after_px.len(), d.trace.data_px.len()), (n, n, n));
     assert_eq!(d.residuals.window_s.len(), d.residuals.window_before_px.len());
     let noise_ok = (d.noise_px - NOISE_PX).abs() < if lens { 0.04 } else { 0.03 };
@@ -43,11 +61,17 @@ fn consistent(d: &Diagnosis, lens: bool) {
     // A candidate whose whole-run path stopped early says where, and claims no uncertainty.
     for c in d.candidates.iter().filter(|c| c.stopped_at_segments.is_some()) {
         assert!(c.stopped_at_segments.is_some_and(|n| n > 1), "{c:?}");
-        assert!(c.effect != d.finding.first() && c.strength.is_none_or(|s| s.1.is_infinite()), "{c:?}");
+        assert!(
+            c.effect != d.finding.first() && c.strength.is_none_or(|s| s.1.is_infinite()),
+            "{c:?}"
+        );
     }
     if let Some(m) = &d.mismatch {
         let (t0, t1) = (d.residuals.t_s[0], d.residuals.t_s[n - 1]);
-        assert!(m.start_s >= t0 && m.end_s <= t1 + 1.0 / d.fps + 1e-9 && m.start_s < m.end_s, "{m:?} outside {t0}..{t1}");
+        assert!(
+            m.start_s >= t0 && m.end_s <= t1 + 1.0 / d.fps + 1e-9 && m.start_s < m.end_s,
+            "{m:?} outside {t0}..{t1}"
+        );
     }
 }
 
@@ -56,7 +80,12 @@ fn consistent(d: &Diagnosis, lens: bool) {
 fn names(kind: EffectKind, to_noise: bool) {
     let (d, truth) = run(kind);
     consistent(&d, kind == EffectKind::CameraDistortion);
-    assert_eq!(d.finding.first(), kind, "concealed {kind} at {truth}; diagnosis: {}", d.explanation);
+    assert_eq!(
+        d.finding.first(),
+        kind,
+        "concealed {kind} at {truth}; diagnosis: {}",
+        d.explanation
+    );
     // The effect found and most of the misfit beyond the noise gone (not "2x lower": a lens
     // of the realistic range leaves the baseline at 0.79 px for 0.5 px of noise, where 2x
     // cannot be had), then the misfit down to the noise and the strength the one concealed.
@@ -68,10 +97,17 @@ fn names(kind: EffectKind, to_noise: bool) {
     if !to_noise {
         return;
     }
-    assert!(d.after.rms_px < 1.1 * NOISE_PX, "{kind}: left {} px for noise {NOISE_PX}", d.after.rms_px);
+    assert!(
+        d.after.rms_px < 1.1 * NOISE_PX,
+        "{kind}: left {} px for noise {NOISE_PX}",
+        d.after.rms_px
+    );
     let (value, sigma) = d.after.strength.expect("a fitted strength");
     assert!(sigma.is_finite() && sigma > 0.0);
-    assert!((value - truth).abs() < 0.05 * truth.abs() + 5.0 * sigma, "{kind}: {value} +- {sigma}, concealed {truth}");
+    assert!(
+        (value - truth).abs() < 0.05 * truth.abs() + 5.0 * sigma,
+        "{kind}: {value} +- {sigma}, concealed {truth}"
+    );
 }
 
 #[test]
@@ -136,9 +172,13 @@ fn cancelling_and_bad_input_are_errors() {
     let cancelled = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(true));
     assert!(matches!(cancelled, Err(DiagnoseError::Cancelled)), "{cancelled:?}");
     let opts = DiagnoseOptions { evidence: f64::NAN, ..DiagnoseOptions::default() };
-    assert!(matches!(diagnose(&rec, &opts, &|_| {}, &AtomicBool::new(false)), Err(DiagnoseError::Options(_))));
+    assert!(matches!(
+        diagnose(&rec, &opts, &|_| {}, &AtomicBool::new(false)),
+        Err(DiagnoseError::Options(_))
+    ));
     let short = ringlab_core::recording::Recording { frames: rec.frames[..20].to_vec(), ..rec };
-    let e = diagnose(&short, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).unwrap_err();
+    let e = diagnose(&short, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .unwrap_err();
     assert!(e.to_string().contains("too few frames"), "{e}");
 }
 
@@ -157,12 +197,18 @@ fn a_path_that_fits_worse_than_its_ceiling_stops_there() {
     let sh = with_effect(&ms, EffectKind::None);
     let g = sh.spec.to_internal(&sh.spec.initial_values());
     let span = ms.segments[0].start..ms.segments[ms.segments.len() - 1].end;
-    let (stopped, levels) = fit_path(&sh, g.clone(), &base.segment_states, &|_| 0.0, &mut |_, _| {}, &cancel).expect("a path");
+    let (stopped, levels) =
+        fit_path(&sh, g.clone(), &base.segment_states, &|_| 0.0, &mut |_, _| {}, &cancel)
+            .expect("a path");
     assert_eq!(levels.len(), 1, "stopped after the first stage");
     assert_eq!(stopped.span, span);
-    assert!(stopped.cost.is_finite() && stopped.cost > levels[0].cost, "one run over the whole span fits worse than the segments");
+    assert!(
+        stopped.cost.is_finite() && stopped.cost > levels[0].cost,
+        "one run over the whole span fits worse than the segments"
+    );
     assert!(stopped.c_sigma.iter().all(|s| s.is_infinite()));
-    let (whole, all) = fit_path(&sh, g, &base.segment_states, &no_ceiling, &mut |_, _| {}, &cancel).expect("a path");
+    let (whole, all) = fit_path(&sh, g, &base.segment_states, &no_ceiling, &mut |_, _| {}, &cancel)
+        .expect("a path");
     assert_eq!(all.last().map(|l| l.segments.len()), Some(1));
     assert_eq!(whole.span, span);
     assert!(whole.rms_px() < 0.6 && whole.cost < stopped.cost, "{} px", whole.rms_px());

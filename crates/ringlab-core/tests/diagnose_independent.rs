@@ -7,7 +7,7 @@
 
 mod common;
 
-use ringlab_core::analysis::diagnose::{Diagnosis, DiagnoseOptions, Finding, diagnose};
+use ringlab_core::analysis::diagnose::{DiagnoseOptions, Diagnosis, Finding, diagnose};
 use ringlab_core::recording::read_recording;
 use std::sync::atomic::AtomicBool;
 
@@ -17,16 +17,24 @@ struct Truth {
 }
 
 fn truth(name: &str) -> Truth {
-    let text = std::fs::read_to_string(common::test_data("independent/truth.json")).expect("truth.json");
+    let text =
+        std::fs::read_to_string(common::test_data("independent/truth.json")).expect("truth.json");
     let all: serde_json::Value = serde_json::from_str(&text).expect("truth.json is JSON");
     let t = &all[name];
-    let left_out = t["left_out"].as_array().expect("left_out").iter().map(|v| v.as_str().expect("a name").to_string()).collect();
+    let left_out = t["left_out"]
+        .as_array()
+        .expect("left_out")
+        .iter()
+        .map(|v| v.as_str().expect("a name").to_string())
+        .collect();
     Truth { left_out, noise_px: t["noise_px"].as_f64().expect("noise_px") }
 }
 
 fn run(name: &str) -> (Diagnosis, Truth) {
-    let rec = read_recording(&common::test_data(&format!("independent/{name}.csv"))).expect("a readable recording");
-    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false)).expect("a diagnosis");
+    let rec = read_recording(&common::test_data(&format!("independent/{name}.csv")))
+        .expect("a readable recording");
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .expect("a diagnosis");
     (d, truth(name))
 }
 
@@ -41,10 +49,18 @@ fn check(name: &str) -> Diagnosis {
     want.sort();
     got.sort();
     assert_eq!(got, want, "{name}: {}", d.explanation);
-    assert!((d.noise_px / truth.noise_px - 1.0).abs() < 0.2, "{name}: noise {} against {}", d.noise_px, truth.noise_px);
+    assert!(
+        (d.noise_px / truth.noise_px - 1.0).abs() < 0.2,
+        "{name}: noise {} against {}",
+        d.noise_px,
+        truth.noise_px
+    );
     if !d.finding.named().is_empty() {
         let (before, after) = (d.excess_px(d.before.rms_px), d.excess_px(d.after.rms_px));
-        assert!(after <= before / 4.0 || after < 0.15 * d.noise_px, "{name}: excess {before} -> {after} px");
+        assert!(
+            after <= before / 4.0 || after < 0.15 * d.noise_px,
+            "{name}: excess {before} -> {after} px"
+        );
     }
     d
 }
@@ -82,5 +98,9 @@ fn glitches_are_left_out_and_nothing_is_missing() {
     let d = check("glitches");
     // 0.5% of 1,808 x 4 marks off, and labels 1 and 3 swapped a few frames four times.
     assert!((40..=70).contains(&d.glitches.len()), "{} glitches", d.glitches.len());
-    assert!(d.before.rms_px < 1.1 * d.noise_px, "misfit over the coordinates kept: {}", d.before.rms_px);
+    assert!(
+        d.before.rms_px < 1.1 * d.noise_px,
+        "misfit over the coordinates kept: {}",
+        d.before.rms_px
+    );
 }

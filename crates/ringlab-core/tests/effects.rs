@@ -4,7 +4,9 @@
 
 use ringlab_core::physics::effects::apply;
 use ringlab_core::physics::motion::analyze;
-use ringlab_core::physics::{EffectKind, Effects, Initial, Model, RunOptions, RunSummary, Sample, Units, paper, simulate};
+use ringlab_core::physics::{
+    EffectKind, Effects, Initial, Model, RunOptions, RunSummary, Sample, Units, paper, simulate,
+};
 
 fn paper_model(kind: EffectKind, strength: f64) -> Model {
     let base = paper::ring_model(paper::C_RING);
@@ -47,13 +49,19 @@ fn the_cold_path_at_vanishing_strength_is_the_fast_path() {
     // drag on C); it must give the same dynamics to rounding, and the same run to the
     // integrator's accuracy (its steps differ, so the runs differ at the level of rtol,
     // amplified along the run as in any comparison of two integrations).
-    let e = Effects { rolling_friction: 1e-15, pivot_friction: 1e-15, translational_drag: 1e-15, ..Default::default() };
+    let e = Effects {
+        rolling_friction: 1e-15,
+        pivot_friction: 1e-15,
+        translational_drag: 1e-15,
+        ..Default::default()
+    };
     let slow = paper::ring_model(paper::C_RING).with_effects(e).unwrap();
     let fast = paper::ring_model(paper::C_RING);
     for k in 0..100 {
         let x = k as f64;
         let theta = 0.05 + 1.45 * (0.37 * x).sin().abs();
-        let w = nalgebra::Vector3::new((1.3 * x).sin(), 3.0 * (0.7 * x).cos(), 2.0 * (0.23 * x).sin());
+        let w =
+            nalgebra::Vector3::new((1.3 * x).sin(), 3.0 * (0.7 * x).cos(), 2.0 * (0.23 * x).sin());
         let (a, b) = (fast.dynamics(theta, &w), slow.dynamics(theta, &w));
         assert!((a.omega_dot - b.omega_dot).norm() <= 1e-13 * (1.0 + a.omega_dot.norm()));
         assert!((a.force - b.force).norm() <= 1e-13 * (1.0 + a.force.norm()));
@@ -121,10 +129,16 @@ fn reynolds_drag_is_the_same_run_in_physical_units() {
     let mut model_case = case.clone();
     model_case.model = paper_model(EffectKind::ReynoldsDrag, 0.5);
     let mm_case = model_case.in_units(Units::MM_S).unwrap();
-    let (a, _) = simulate(model_case.model.clone(), &model_case.initial, model_case.opts.clone()).unwrap();
+    let (a, _) =
+        simulate(model_case.model.clone(), &model_case.initial, model_case.opts.clone()).unwrap();
     let (b, _) = simulate(mm_case.model.clone(), &mm_case.initial, mm_case.opts.clone()).unwrap();
     let t0 = model_case.units.time_s;
-    assert!((b.t_end - a.t_end * t0).abs() < 1e-6 * b.t_end, "{} s vs {} model units", b.t_end, a.t_end);
+    assert!(
+        (b.t_end - a.t_end * t0).abs() < 1e-6 * b.t_end,
+        "{} s vs {} model units",
+        b.t_end,
+        a.t_end
+    );
 }
 
 #[test]
@@ -146,7 +160,8 @@ fn rolling_and_pivot_friction_shorten_the_run_in_order_of_strength() {
     let (base, _) = run(EffectKind::None, 0.0, 0.5);
     for kind in [EffectKind::RollingFriction, EffectKind::PivotFriction] {
         let (lo, hi) = kind.realistic_range();
-        let ends: Vec<f64> = [lo, (lo * hi).sqrt(), hi].iter().map(|&k| run(kind, k, 0.5).0.t_end).collect();
+        let ends: Vec<f64> =
+            [lo, (lo * hi).sqrt(), hi].iter().map(|&k| run(kind, k, 0.5).0.t_end).collect();
         assert!(ends[0] < 0.98 * base.t_end, "{kind}: {ends:?} vs {}", base.t_end);
         assert!(ends[0] > ends[1] && ends[1] > ends[2], "{kind}: {ends:?}");
         assert!(ends[2] < 0.65 * base.t_end, "{kind}: {ends:?}");
@@ -157,7 +172,10 @@ fn rolling_and_pivot_friction_shorten_the_run_in_order_of_strength() {
 fn translational_drag_slows_the_centre_of_mass() {
     // Quadratic drag on C: the centre of mass covers less ground; the path drifts.
     let path = |p: &[Sample], t_max: f64| -> f64 {
-        p.windows(2).filter(|w| w[1].t <= t_max).map(|w| (w[1].x_c() - w[0].x_c()).hypot(w[1].y_c() - w[0].y_c())).sum()
+        p.windows(2)
+            .filter(|w| w[1].t <= t_max)
+            .map(|w| (w[1].x_c() - w[0].x_c()).hypot(w[1].y_c() - w[0].y_c()))
+            .sum()
     };
     let (base, pb) = run(EffectKind::None, 0.0, 0.01);
     let (lo, hi) = EffectKind::TranslationalDrag.realistic_range();
@@ -165,7 +183,10 @@ fn translational_drag_slows_the_centre_of_mass() {
     let (s_hi, p_hi) = run(EffectKind::TranslationalDrag, hi, 0.01);
     let (l0, l1, l2) = (path(&pb, 50.0), path(&p_lo, 50.0), path(&p_hi, 50.0));
     assert!(l0 > l1 && l1 > l2 && l2 < 0.8 * l0, "paths {l0} {l1} {l2}");
-    let drift = |s: &RunSummary| (s.final_sample.x_a - base.final_sample.x_a).hypot(s.final_sample.y_a - base.final_sample.y_a);
+    let drift = |s: &RunSummary| {
+        (s.final_sample.x_a - base.final_sample.x_a)
+            .hypot(s.final_sample.y_a - base.final_sample.y_a)
+    };
     assert!(drift(&s_lo) > 0.3, "end point moved only {}", drift(&s_lo));
     assert!(drift(&s_hi) > 2.0, "end point moved only {}", drift(&s_hi));
 }
@@ -179,7 +200,11 @@ fn every_realistic_strength_changes_the_run_visibly() {
     for kind in ROLLING_EFFECTS {
         let (lo, _) = kind.realistic_range();
         let (_, p) = run(kind, lo, 0.05);
-        let worst = p.iter().zip(&pb).map(|(a, b)| (a.x_a - b.x_a).hypot(a.y_a - b.y_a)).fold(0.0, f64::max);
+        let worst = p
+            .iter()
+            .zip(&pb)
+            .map(|(a, b)| (a.x_a - b.x_a).hypot(a.y_a - b.y_a))
+            .fold(0.0, f64::max);
         assert!(worst > 0.2, "{kind} at {lo}: A departs by at most {worst} mean radii");
     }
 }

@@ -5,7 +5,9 @@
 mod common;
 
 use ringlab_core::analysis::fit::shooting::{PredictedMarks, Shooting};
-use ringlab_core::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, fit};
+use ringlab_core::analysis::fit::{
+    FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, fit,
+};
 use ringlab_core::config::load_preset;
 use ringlab_core::physics::{EffectKind, RunOptions};
 use ringlab_core::recording::marks::{MarkGeometry, MarkOrder};
@@ -24,19 +26,40 @@ fn rel(a: f64, b: f64) -> f64 {
 
 fn assert_recovers(r: &FitResult, c: [f64; 3], theta0: f64, phidot0: f64, what: &str) {
     for (i, &c) in c.iter().enumerate() {
-        assert!(rel(r.c[i], c) < 0.10, "{what}: C{} = {} +- {}, truth {c}", i + 1, r.c[i], r.c_sigma[i]);
-        assert!(r.c_sigma[i].is_finite() && r.c_sigma[i] > 0.0, "{what}: C{} sigma {}", i + 1, r.c_sigma[i]);
+        assert!(
+            rel(r.c[i], c) < 0.10,
+            "{what}: C{} = {} +- {}, truth {c}",
+            i + 1,
+            r.c[i],
+            r.c_sigma[i]
+        );
+        assert!(
+            r.c_sigma[i].is_finite() && r.c_sigma[i] > 0.0,
+            "{what}: C{} sigma {}",
+            i + 1,
+            r.c_sigma[i]
+        );
     }
-    assert!(rel(r.start.theta, theta0) < 0.02, "{what}: theta0 = {}, truth {theta0}", r.start.theta);
-    assert!(rel(r.start.phi_dot, phidot0) < 0.02, "{what}: phidot0 = {}, truth {phidot0}", r.start.phi_dot);
+    assert!(
+        rel(r.start.theta, theta0) < 0.02,
+        "{what}: theta0 = {}, truth {theta0}",
+        r.start.theta
+    );
+    assert!(
+        rel(r.start.phi_dot, phidot0) < 0.02,
+        "{what}: phidot0 = {}, truth {phidot0}",
+        r.start.phi_dot
+    );
     // Every recording here has 0.5 px of noise: the misfit is that noise, no more.
     assert!(r.rms_px < 0.55 && r.rms_px > 0.45, "{what}: misfit {} px for noise 0.5 px", r.rms_px);
 }
 
 #[test]
 fn fits_the_sample_recording() {
-    let truth: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(common::test_data("sample-ring.truth.json")).unwrap()).unwrap();
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(common::test_data("sample-ring.truth.json")).unwrap(),
+    )
+    .unwrap();
     let c: Vec<f64> = truth["C"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let rec = read_recording(&common::test_data("sample-ring.csv")).unwrap();
     let stages = Mutex::new(Vec::new());
@@ -52,7 +75,13 @@ fn fits_the_sample_recording() {
         &AtomicBool::new(false),
     )
     .unwrap();
-    assert_recovers(&r, [c[0], c[1], c[2]], truth["theta0"].as_f64().unwrap(), truth["phidot0"].as_f64().unwrap(), "sample");
+    assert_recovers(
+        &r,
+        [c[0], c[1], c[2]],
+        truth["theta0"].as_f64().unwrap(),
+        truth["phidot0"].as_f64().unwrap(),
+        "sample",
+    );
     assert!((r.start.psi_dot - truth["psidot0"].as_f64().unwrap()).abs() < 0.02);
     assert_eq!(r.frames, 1884);
     assert!(r.start_frame.abs() < 0.5, "the sample starts at its first inner turning point");
@@ -60,15 +89,26 @@ fn fits_the_sample_recording() {
     let (_, samples) = r.model_run().unwrap();
     let motion = ringlab_core::recording::recover(&rec).unwrap();
     let (l, k) = (r.units.length_mm, rec.header.px_per_mm);
-    let ss: f64 = samples.iter().take(150).zip(&motion.frames).map(|(s, f)| {
-        let a = f.a_mm.unwrap();
-        (s.x_a * l - a[0]).powi(2) + (s.y_a * l - a[1]).powi(2)
-    }).sum();
+    let ss: f64 = samples
+        .iter()
+        .take(150)
+        .zip(&motion.frames)
+        .map(|(s, f)| {
+            let a = f.a_mm.unwrap();
+            (s.x_a * l - a[0]).powi(2) + (s.y_a * l - a[1]).powi(2)
+        })
+        .sum();
     let rms_px = (ss / 150.0).sqrt() * k;
     assert!(rms_px < 1.0, "the model's A is {rms_px} px rms from the data's over 150 frames");
     assert_eq!(
         *stages.lock().unwrap(),
-        vec![FitStage::Recover, FitStage::StartState, FitStage::Sweep, FitStage::Segments, FitStage::Refine]
+        vec![
+            FitStage::Recover,
+            FitStage::StartState,
+            FitStage::Sweep,
+            FitStage::Segments,
+            FitStage::Refine
+        ]
     );
 }
 
@@ -78,7 +118,13 @@ fn fits_a_synthesized_disk_like_drag() {
     let case = load_preset("paper-disk-drag").unwrap().build().unwrap();
     let s = synthesize(&case, &SynthOptions { seed: 21, ..SynthOptions::default() }).unwrap();
     let r = run(&s.recording, &FitOptions::default());
-    assert_recovers(&r, case.model.c_drag, case.initial.theta, case.initial.phi_dot, "disk-like drag");
+    assert_recovers(
+        &r,
+        case.model.c_drag,
+        case.initial.theta,
+        case.initial.phi_dot,
+        "disk-like drag",
+    );
 }
 
 #[test]
@@ -89,7 +135,12 @@ fn fits_the_other_spin_other_numbering_and_missing_marks() {
     f.initial.theta = 0.6;
     f.initial.psi_dot = 0.1;
     let case = f.build().unwrap();
-    let opts = SynthOptions { seed: 22, mark_order: MarkOrder::Reverse, missing_fraction: 0.08, ..SynthOptions::default() };
+    let opts = SynthOptions {
+        seed: 22,
+        mark_order: MarkOrder::Reverse,
+        missing_fraction: 0.08,
+        ..SynthOptions::default()
+    };
     let s = synthesize(&case, &opts).unwrap();
     let r = run(&s.recording, &FitOptions::default());
     assert_recovers(&r, case.model.c_drag, 0.6, -4.2, "mirrored");
@@ -102,8 +153,10 @@ fn fits_a_lens_distortion_as_a_free_effect() {
     f.initial.phi = 1.2;
     let case = f.build().unwrap();
     let k1 = 0.08;
-    let s = synthesize(&case, &SynthOptions { seed: 23, lens_k1: k1, ..SynthOptions::default() }).unwrap();
-    let opts = FitOptions { effect: Some((EffectKind::CameraDistortion, 0.0)), ..FitOptions::default() };
+    let s = synthesize(&case, &SynthOptions { seed: 23, lens_k1: k1, ..SynthOptions::default() })
+        .unwrap();
+    let opts =
+        FitOptions { effect: Some((EffectKind::CameraDistortion, 0.0)), ..FitOptions::default() };
     let r = run(&s.recording, &opts);
     let (kind, value, sigma) = r.effect.unwrap();
     assert_eq!(kind, EffectKind::CameraDistortion);
@@ -117,9 +170,15 @@ fn cancelling_stops_the_fit_and_bad_input_is_an_error() {
     let r = fit(&rec, &FitOptions::default(), &|_| {}, &AtomicBool::new(true));
     assert_eq!(r.unwrap_err(), FitError::Cancelled);
     let short = Recording { frames: rec.frames[..12].to_vec(), ..rec.clone() };
-    assert!(matches!(fit(&short, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)), Err(FitError::TooFewFrames { .. })));
+    assert!(matches!(
+        fit(&short, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)),
+        Err(FitError::TooFewFrames { .. })
+    ));
     let opts = FitOptions { segment_frames: 3, ..FitOptions::default() };
-    assert!(matches!(fit(&rec, &opts, &|_| {}, &AtomicBool::new(false)), Err(FitError::Options(_))));
+    assert!(matches!(
+        fit(&rec, &opts, &|_| {}, &AtomicBool::new(false)),
+        Err(FitError::Options(_))
+    ));
     // Marks thrown at random: an answer or an error, never a panic.
     let mut rng = ringlab_core::recording::rng::Rng::new(3);
     let mut noise = rec.clone();
@@ -156,7 +215,13 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
         let s = synthesize(&case, &opts).unwrap();
         let rec = &s.recording;
         let camera = Camera::for_recording(&rec.header, &rec.frames);
-        let spec = ModelSpec { base: case.model.clone(), camera, free: Vec::new(), re_start: 1.0, strength_ranges: Vec::new() };
+        let spec = ModelSpec {
+            base: case.model.clone(),
+            camera,
+            free: Vec::new(),
+            re_start: 1.0,
+            strength_ranges: Vec::new(),
+        };
         let sh = Shooting {
             observed: &rec.frames,
             segments: vec![0..rec.frames.len()],
@@ -167,14 +232,19 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
             length_mm: s.length_mm,
             budget: None,
         };
-        let predicted: PredictedMarks = s.samples.iter().map(|x| sh.project(&sh.geometry, &camera, x)).collect();
+        let predicted: PredictedMarks =
+            s.samples.iter().map(|x| sh.project(&sh.geometry, &camera, x)).collect();
         let worst = sh.residuals_of(0, &predicted).iter().fold(0.0f64, |m, r| m.max(r.abs()));
         assert!(worst < 0.0051, "{distance:?} mm, {tilt} deg: {worst} px");
         if distance.is_some() {
             let flat = Camera { distance_mm: None, tilt_rad: 0.0, ..camera };
-            let predicted: PredictedMarks = s.samples.iter().map(|x| sh.project(&sh.geometry, &flat, x)).collect();
+            let predicted: PredictedMarks =
+                s.samples.iter().map(|x| sh.project(&sh.geometry, &flat, x)).collect();
             let worst = sh.residuals_of(0, &predicted).iter().fold(0.0f64, |m, r| m.max(r.abs()));
-            assert!(worst > 5.0, "{distance:?} mm, {tilt} deg: orthographic misses by only {worst} px");
+            assert!(
+                worst > 5.0,
+                "{distance:?} mm, {tilt} deg: orthographic misses by only {worst} px"
+            );
         }
     }
 }

@@ -7,7 +7,9 @@ mod common;
 
 use ringlab_core::analysis::fit::{FitOptions, fit};
 use ringlab_core::physics::Shape;
-use ringlab_core::recording::import::{BodyMm, Format, ImportErrorKind, ImportOptions, Imported, LengthUnit, Source, import};
+use ringlab_core::recording::import::{
+    BodyMm, Format, ImportErrorKind, ImportOptions, Imported, LengthUnit, Source, import,
+};
 use ringlab_core::recording::{Recording, read_recording};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,7 +44,12 @@ fn opts() -> ImportOptions {
 
 /// The imported marks equal the sample's (up to one shift of the whole image, within the
 /// files' rounding), except where `dropped` says a mark was left out on purpose.
-fn assert_same_marks(got: &Imported, want: &Recording, dropped: &dyn Fn(usize, usize) -> bool, tol_px: f64) {
+fn assert_same_marks(
+    got: &Imported,
+    want: &Recording,
+    dropped: &dyn Fn(usize, usize) -> bool,
+    tol_px: f64,
+) {
     let g = &got.recording;
     assert_eq!(g.frames.len(), want.frames.len(), "frame count");
     let mut shift: Option<[f64; 2]> = None;
@@ -69,7 +76,8 @@ fn assert_same_marks(got: &Imported, want: &Recording, dropped: &dyn Fn(usize, u
 
 /// The fit of an imported recording finds the sample's truth.
 fn assert_fits_truth(rec: &Recording, what: &str) {
-    let r = fit(rec, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)).unwrap_or_else(|e| panic!("{what}: fit: {e}"));
+    let r = fit(rec, &FitOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .unwrap_or_else(|e| panic!("{what}: fit: {e}"));
     let truth = [0.031, 0.066, 0.083];
     for i in 0..3 {
         let rel = (r.c[i] - truth[i]).abs() / truth[i];
@@ -108,7 +116,8 @@ fn dlc_file(rec: &Recording, individuals: bool) -> (String, usize, usize) {
     let (mut low, mut blank) = (0, 0);
     for (i, f) in rec.frames.iter().enumerate() {
         write!(s, "{i}").unwrap();
-        let centre = f.iter().flatten().fold([0.0, 0.0], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
+        let centre =
+            f.iter().flatten().fold([0.0, 0.0], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
         for p in parts {
             let Some(k) = mark_of(p) else {
                 write!(s, ",{:.3},{:.3},0.99", centre[0], centre[1]).unwrap();
@@ -152,7 +161,11 @@ fn deeplabcut_csv_is_imported_and_fits_the_truth() {
     assert_eq!(got.report.low_likelihood, low);
     assert!(low > 40, "{low} low-likelihood guesses planted");
     assert_eq!(got.report.blank, blank);
-    assert!(got.report.notes.iter().any(|n| n.contains(&format!("{low} points below likelihood 0.6"))), "{:?}", got.report.notes);
+    assert!(
+        got.report.notes.iter().any(|n| n.contains(&format!("{low} points below likelihood 0.6"))),
+        "{:?}",
+        got.report.notes
+    );
     assert_eq!(got.recording.header.fps, FPS);
     assert_eq!(got.recording.header.px_per_mm, PX_PER_MM);
     let dropped = |i: usize, k: usize| (k == 1 && i % 37 == 5) || (k == 2 && i % 53 == 7);
@@ -166,20 +179,33 @@ fn deeplabcut_csv_is_imported_and_fits_the_truth() {
     assert_eq!(got.report.marks, ["m1", "m2", "m3", "m4"]);
 
     // Marks given out of cyclic order are refused, with the order that works.
-    let crossed = ImportOptions { marks: Some(vec!["m1".into(), "m3".into(), "m2".into(), "m4".into()]), ..o.clone() };
+    let crossed = ImportOptions {
+        marks: Some(vec!["m1".into(), "m3".into(), "m2".into(), "m4".into()]),
+        ..o.clone()
+    };
     let e = import(std::slice::from_ref(&file), None, &crossed).expect_err("crossed marks");
     assert!(matches!(e.kind, ImportErrorKind::NotCyclic { .. }), "{e}");
     assert!(e.to_string().contains("--marks m1,m2,m3,m4"), "{e}");
     // What the file does not say must be given.
-    let e = import(std::slice::from_ref(&file), None, &ImportOptions { fps: None, ..o.clone() }).expect_err("no fps");
+    let e = import(std::slice::from_ref(&file), None, &ImportOptions { fps: None, ..o.clone() })
+        .expect_err("no fps");
     assert_eq!(e.kind, ImportErrorKind::MissingFps);
-    let e = import(std::slice::from_ref(&file), None, &ImportOptions { px_per_mm: None, ..o.clone() }).expect_err("no scale");
+    let e =
+        import(std::slice::from_ref(&file), None, &ImportOptions { px_per_mm: None, ..o.clone() })
+            .expect_err("no scale");
     assert_eq!(e.kind, ImportErrorKind::MissingScale);
-    let e = import(std::slice::from_ref(&file), None, &ImportOptions { body: None, ..o.clone() }).expect_err("no body");
+    let e = import(std::slice::from_ref(&file), None, &ImportOptions { body: None, ..o.clone() })
+        .expect_err("no body");
     assert_eq!(e.kind, ImportErrorKind::MissingBody);
-    let unknown = ImportOptions { marks: Some(vec!["m1".into(), "m2".into(), "m3".into(), "tail".into()]), ..o };
+    let unknown = ImportOptions {
+        marks: Some(vec!["m1".into(), "m2".into(), "m3".into(), "tail".into()]),
+        ..o
+    };
     let e = import(&[file], None, &unknown).expect_err("unknown mark");
-    assert!(e.to_string().contains("'tail' is not in the file (it has: centre, m3, m1, m2, m4)"), "{e}");
+    assert!(
+        e.to_string().contains("'tail' is not in the file (it has: centre, m3, m1, m2, m4)"),
+        "{e}"
+    );
 }
 
 /// One Tracker data table per mark: calibrated in metres, y up, origin at the image centre,
@@ -193,7 +219,8 @@ fn tracker_tables(rec: &Recording, d: &Path, comma: bool) -> Vec<PathBuf> {
                 if let Some(p) = f[k] {
                     let x = (p[0] - 640.0) / PX_PER_MM / 1000.0;
                     let y = -(p[1] - 512.0) / PX_PER_MM / 1000.0;
-                    writeln!(s, "{:.6}{sep}{x:.8}{sep}{y:.8}{sep}", (i as f64 + 150.0) / FPS).unwrap();
+                    writeln!(s, "{:.6}{sep}{x:.8}{sep}{y:.8}{sep}", (i as f64 + 150.0) / FPS)
+                        .unwrap();
                 }
             }
             write(&d.join(format!("mass{k}.txt")), &s)
@@ -210,10 +237,15 @@ fn tracker_data_tables_are_imported_and_fit_the_truth() {
         // The unit is not in a table: it must be said.
         let e = import(&files, Some(Format::Tracker), &opts()).expect_err("no unit");
         assert!(matches!(e.kind, ImportErrorKind::MissingUnit(_)), "{e}");
-        let o = ImportOptions { unit: LengthUnit::parse("m"), px_per_mm: Some(PX_PER_MM), ..opts() };
+        let o =
+            ImportOptions { unit: LengthUnit::parse("m"), px_per_mm: Some(PX_PER_MM), ..opts() };
         let got = import(&files, None, &o).expect("imports");
         assert_eq!(got.report.source, Source::TrackerTable);
-        assert!((got.recording.header.fps - FPS).abs() < 1e-3, "frame rate from the times: {}", got.recording.header.fps);
+        assert!(
+            (got.recording.header.fps - FPS).abs() < 1e-3,
+            "frame rate from the times: {}",
+            got.recording.header.fps
+        );
         assert_eq!(got.report.marks, ["mass A", "mass B", "mass C", "mass D"]);
         assert_same_marks(&got, &rec, &|_, _| false, 0.01);
         if comma {
@@ -310,8 +342,16 @@ fn tracker_project_is_imported_with_its_rate_and_calibration() {
     let got = import(std::slice::from_ref(&file), None, &opts()).expect("imports");
     assert_eq!(got.report.source, Source::TrackerProject);
     assert!((got.recording.header.fps - FPS).abs() < 1e-9, "fps {}", got.recording.header.fps);
-    assert!((got.recording.header.px_per_mm - PX_PER_MM).abs() < 1e-9, "scale {}", got.recording.header.px_per_mm);
-    assert!(got.report.notes.iter().any(|n| n.contains("axes (CoordAxes)")), "{:?}", got.report.notes);
+    assert!(
+        (got.recording.header.px_per_mm - PX_PER_MM).abs() < 1e-9,
+        "scale {}",
+        got.recording.header.px_per_mm
+    );
+    assert!(
+        got.report.notes.iter().any(|n| n.contains("axes (CoordAxes)")),
+        "{:?}",
+        got.report.notes
+    );
     assert_same_marks(&got, &rec, &|_, _| false, 1e-9);
     assert_fits_truth(&got.recording, "Tracker project");
 }
@@ -325,7 +365,13 @@ fn trackmate_file(rec: &Recording) -> String {
     for (i, f) in rec.frames.iter().enumerate() {
         for (k, p) in f.iter().enumerate() {
             if let Some(p) = p {
-                spots.push(format!("ID{n},{n},{},50.0,{},{},0.0,{},{i},3.0", ids[k], p[0], p[1], i as f64 / FPS));
+                spots.push(format!(
+                    "ID{n},{n},{},50.0,{},{},0.0,{},{i},3.0",
+                    ids[k],
+                    p[0],
+                    p[1],
+                    i as f64 / FPS
+                ));
                 n += 1;
             }
         }
@@ -361,17 +407,34 @@ fn trackmate_spots_out_of_order_are_imported_and_fit_the_truth() {
     let rec = sample();
     let d = dir("trackmate");
     let file = write(&d.join("spots.csv"), &trackmate_file(&rec));
-    let o = ImportOptions { px_per_mm: Some(PX_PER_MM), marks: Some(["5", "2", "9", "0"].map(String::from).to_vec()), ..opts() };
+    let o = ImportOptions {
+        px_per_mm: Some(PX_PER_MM),
+        marks: Some(["5", "2", "9", "0"].map(String::from).to_vec()),
+        ..opts()
+    };
     let got = import(std::slice::from_ref(&file), None, &o).expect("imports");
     assert_eq!(got.report.source, Source::TrackMate);
-    assert!((got.recording.header.fps - FPS).abs() < 1e-6, "frame rate from POSITION_T: {}", got.recording.header.fps);
-    assert!(got.report.notes.iter().any(|n| n.contains("19 spots belong to no track")), "{:?}", got.report.notes);
+    assert!(
+        (got.recording.header.fps - FPS).abs() < 1e-6,
+        "frame rate from POSITION_T: {}",
+        got.recording.header.fps
+    );
+    assert!(
+        got.report.notes.iter().any(|n| n.contains("19 spots belong to no track")),
+        "{:?}",
+        got.report.notes
+    );
     assert_same_marks(&got, &rec, &|_, _| false, 1e-9);
     assert_fits_truth(&got.recording, "TrackMate");
     // Without --marks, the first four tracks by id (0, 2, 3, 5) are taken, and that is said.
     let e = import(&[file], None, &ImportOptions { marks: None, ..o }).map(|g| g.report.notes);
     match e {
-        Ok(notes) => assert!(notes.iter().any(|n| n.contains("5 points in the file (0, 2, 3, 5, 9): the first four taken")), "{notes:?}"),
+        Ok(notes) => assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("5 points in the file (0, 2, 3, 5, 9): the first four taken")),
+            "{notes:?}"
+        ),
         Err(e) => assert!(matches!(e.kind, ImportErrorKind::NotCyclic { .. }), "{e}"),
     }
 }
@@ -392,13 +455,21 @@ fn plain_csv_with_named_columns_in_mm_y_up_is_imported() {
         s.push('\n');
     }
     let file = write(&d.join("marks.csv"), &s);
-    let e = import(std::slice::from_ref(&file), None, &opts()).expect_err("a plain CSV is never guessed");
+    let e = import(std::slice::from_ref(&file), None, &opts())
+        .expect_err("a plain CSV is never guessed");
     assert_eq!(e.kind, ImportErrorKind::UnknownFormat);
-    let e = import(std::slice::from_ref(&file), Some(Format::Csv), &opts()).expect_err("default columns absent");
+    let e = import(std::slice::from_ref(&file), Some(Format::Csv), &opts())
+        .expect_err("default columns absent");
     assert_eq!(e.line, Some(2), "{e}");
     assert!(e.to_string().contains("no column 'frame (name them with --columns)'"), "{e}");
     let columns = "time:t_s,ax,ay,bx,by,cx,cy,dx,dy".split(',').map(String::from).collect();
-    let o = ImportOptions { columns: Some(columns), unit: Some(LengthUnit::MM), y_up: true, px_per_mm: Some(PX_PER_MM), ..opts() };
+    let o = ImportOptions {
+        columns: Some(columns),
+        unit: Some(LengthUnit::MM),
+        y_up: true,
+        px_per_mm: Some(PX_PER_MM),
+        ..opts()
+    };
     let got = import(&[file], Some(Format::Csv), &o).expect("imports");
     assert!((got.recording.header.fps - FPS).abs() < 1e-3);
     assert_same_marks(&got, &rec, &|_, _| false, 0.01);

@@ -5,7 +5,11 @@ use ringlab_core::physics::integrator::Tolerances;
 use ringlab_core::physics::motion::{Phase, analyze};
 use ringlab_core::physics::{Initial, RunOptions, Sample, paper, simulate};
 
-fn run(c: [f64; 3], initial: &Initial, dt: f64) -> (ringlab_core::physics::RunSummary, Vec<Sample>) {
+fn run(
+    c: [f64; 3],
+    initial: &Initial,
+    dt: f64,
+) -> (ringlab_core::physics::RunSummary, Vec<Sample>) {
     let opts = RunOptions { sample_dt: Some(dt), ..Default::default() };
     simulate(paper::ring_model(c), initial, opts).expect("runs")
 }
@@ -23,7 +27,11 @@ fn ring_drag_makes_prograde_cycles_a_walk_then_a_retrograde_turn() {
     let t_infl = m.inflection_time.expect("an inflection");
     assert!(t_infl > 10.0 && t_infl < 0.5 * summary.t_end, "inflection at {t_infl}");
     // The terminal spiral turns back by more than a full revolution.
-    assert!(m.retrograde_total_deg > 360.0, "retrograde turning only {} deg", m.retrograde_total_deg);
+    assert!(
+        m.retrograde_total_deg > 360.0,
+        "retrograde turning only {} deg",
+        m.retrograde_total_deg
+    );
 }
 
 #[test]
@@ -104,7 +112,8 @@ fn without_drag_energy_is_conserved_and_the_orbit_stays_quasi_periodic() {
         tol: Tolerances { rtol: 1e-12, atol: 1e-14 },
         ..Default::default()
     };
-    let (summary, samples) = simulate(paper::ring_model([0.0; 3]), &paper::initial(), opts).expect("runs");
+    let (summary, samples) =
+        simulate(paper::ring_model([0.0; 3]), &paper::initial(), opts).expect("runs");
     assert_eq!(summary.end_reason, ringlab_core::physics::EndReason::TEnd);
     let e0 = samples[0].energy;
     let drift = samples.iter().map(|s| ((s.energy - e0) / e0).abs()).fold(0.0, f64::max);
@@ -116,6 +125,11 @@ fn without_drag_energy_is_conserved_and_the_orbit_stays_quasi_periodic() {
     let m = analyze(&samples[0], &summary.turning_points, summary.t_end);
     assert!(!m.retrograde_turn);
     let th_max: Vec<f64> = m.theta_max.iter().map(|p| p.1).collect();
-    let spread = th_max.iter().cloned().fold(f64::MIN, f64::max) - th_max.iter().cloned().fold(f64::MAX, f64::min);
-    assert!(th_max.len() > 300 && spread < 1e-6, "theta_max varies by {spread} over {} cycles", th_max.len());
+    let spread = th_max.iter().cloned().fold(f64::MIN, f64::max)
+        - th_max.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(
+        th_max.len() > 300 && spread < 1e-6,
+        "theta_max varies by {spread} over {} cycles",
+        th_max.len()
+    );
 }

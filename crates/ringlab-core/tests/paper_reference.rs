@@ -7,7 +7,11 @@ use ringlab_core::physics::integrator::Tolerances;
 use ringlab_core::physics::{EndReason, RunOptions, Sample, Simulation, paper, simulate};
 
 fn run_paper(dt: f64, rtol: f64) -> (ringlab_core::physics::RunSummary, Vec<Sample>) {
-    let opts = RunOptions { sample_dt: Some(dt), tol: Tolerances { rtol, atol: 1e-12 }, ..Default::default() };
+    let opts = RunOptions {
+        sample_dt: Some(dt),
+        tol: Tolerances { rtol, atol: 1e-12 },
+        ..Default::default()
+    };
     simulate(paper::ring_model(paper::C_RING), &paper::initial(), opts).expect("runs")
 }
 
@@ -78,14 +82,22 @@ fn dense_output_is_right_at_coarse_and_fine_spacing() {
     for dt in [0.01, 0.05, 1.0, 2.5] {
         let (_, samples) = run_paper(dt, 1e-10);
         let s = samples.iter().find(|s| (s.t - 20.0).abs() < 1e-9).expect("sample at t = 20");
-        assert!((s.theta() - th[k20]).abs() < 1e-7, "dt {dt}: theta(20) = {} vs {}", s.theta(), th[k20]);
+        assert!(
+            (s.theta() - th[k20]).abs() < 1e-7,
+            "dt {dt}: theta(20) = {} vs {}",
+            s.theta(),
+            th[k20]
+        );
     }
 }
 
 #[test]
 fn theta_first_reaches_1_5_at_48_163() {
     let (_, samples) = run_paper(0.001, 1e-10);
-    let first = samples.windows(2).find(|w| w[0].theta() < 1.5 && w[1].theta() >= 1.5).expect("theta reaches 1.5");
+    let first = samples
+        .windows(2)
+        .find(|w| w[0].theta() < 1.5 && w[1].theta() >= 1.5)
+        .expect("theta reaches 1.5");
     let (a, b) = (&first[0], &first[1]);
     let t = a.t + (1.5 - a.theta()) / (b.theta() - a.theta()) * (b.t - a.t);
     assert!((t - 48.163).abs() < 2e-3, "theta first reaches 1.5 at {t}");
@@ -103,7 +115,10 @@ fn lift_off_found_early_as_in_the_reference() {
     assert!(lift.iter().all(|i| i.end < 2.0), "lift-off after t = 2: {lift:?}");
     // Slip is reported too (it includes every lift-off interval).
     for i in lift {
-        assert!(summary.slip.iter().any(|s| s.start <= i.start && s.end >= i.end), "lift-off {i:?} not within slip");
+        assert!(
+            summary.slip.iter().any(|s| s.start <= i.start && s.end >= i.end),
+            "lift-off {i:?} not within slip"
+        );
     }
 }
 
@@ -111,8 +126,10 @@ fn lift_off_found_early_as_in_the_reference() {
 fn streaming_in_slices_gives_the_same_samples() {
     // The live view advances the run in small slices; the samples must not depend on that.
     let opts = RunOptions { sample_dt: Some(0.05), ..Default::default() };
-    let (_, whole) = simulate(paper::ring_model(paper::C_RING), &paper::initial(), opts.clone()).expect("runs");
-    let mut sim = Simulation::new(paper::ring_model(paper::C_RING), &paper::initial(), opts).expect("starts");
+    let (_, whole) =
+        simulate(paper::ring_model(paper::C_RING), &paper::initial(), opts.clone()).expect("runs");
+    let mut sim =
+        Simulation::new(paper::ring_model(paper::C_RING), &paper::initial(), opts).expect("starts");
     let mut sliced = Vec::new();
     let mut t = 0.0;
     while sim.advance(t, &mut |s| sliced.push(*s)).is_none() {

@@ -17,10 +17,16 @@ fn a_run_in_mm_is_the_model_run_rescaled() {
     let mm_case = model_case.in_units(Units::MM_S).unwrap();
     assert!((mm_case.model.g - 9810.0).abs() < 1e-9);
     assert!((mm_case.model.body.r - 1.025 * 20.16).abs() < 1e-9);
-    let (a, pa) = simulate(model_case.model.clone(), &model_case.initial, model_case.opts.clone()).unwrap();
+    let (a, pa) =
+        simulate(model_case.model.clone(), &model_case.initial, model_case.opts.clone()).unwrap();
     let (b, pb) = simulate(mm_case.model.clone(), &mm_case.initial, mm_case.opts.clone()).unwrap();
     let t0 = model_case.units.time_s;
-    assert!((b.t_end - a.t_end * t0).abs() < 1e-6 * b.t_end, "{} s vs {} model units", b.t_end, a.t_end);
+    assert!(
+        (b.t_end - a.t_end * t0).abs() < 1e-6 * b.t_end,
+        "{} s vs {} model units",
+        b.t_end,
+        a.t_end
+    );
     for (sa, sb) in pa.iter().zip(&pb).step_by(50).take_while(|(s, _)| s.t < 50.0) {
         assert!((sb.t - sa.t * t0).abs() < 1e-9);
         assert!((sb.theta() - sa.theta()).abs() < 1e-6, "theta at t = {}", sa.t);

@@ -4,14 +4,46 @@
 
 mod common;
 
-use ringlab_core::recording::{is_usable, parse_recording, recover};
 use ringlab_core::recording::rng::Rng;
+use ringlab_core::recording::{is_usable, parse_recording, recover};
 use std::path::Path;
 
 const TOKENS: &[&str] = &[
-    "", " ", ",", ",,", "#", "# ", "=", "# fps = 300", "# px_per_mm = -1", "nan", "NaN", "inf", "-inf", "1e309", "-0",
-    "0", "1", "-1", "18446744073709551616", "3.5.2", "0x10", "1_000", "+5", ".", "e5", "\u{feff}", "\r", "\n", "\t",
-    "# ringlab-recording v1", "frame,x1,y1,x2,y2,x3,y3,x4,y4", "\u{00e9}", "\u{1f600}", "9999999999", "# shape = disk",
+    "",
+    " ",
+    ",",
+    ",,",
+    "#",
+    "# ",
+    "=",
+    "# fps = 300",
+    "# px_per_mm = -1",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e309",
+    "-0",
+    "0",
+    "1",
+    "-1",
+    "18446744073709551616",
+    "3.5.2",
+    "0x10",
+    "1_000",
+    "+5",
+    ".",
+    "e5",
+    "\u{feff}",
+    "\r",
+    "\n",
+    "\t",
+    "# ringlab-recording v1",
+    "frame,x1,y1,x2,y2,x3,y3,x4,y4",
+    "\u{00e9}",
+    "\u{1f600}",
+    "9999999999",
+    "# shape = disk",
 ];
 
 fn mutate(rng: &mut Rng, base: &[u8]) -> Vec<u8> {
@@ -55,7 +87,8 @@ fn mutate(rng: &mut Rng, base: &[u8]) -> Vec<u8> {
                         lines.remove(i);
                     }
                     _ => {
-                        let mut fields: Vec<String> = lines[i].split(',').map(str::to_string).collect();
+                        let mut fields: Vec<String> =
+                            lines[i].split(',').map(str::to_string).collect();
                         let k = rng.below(fields.len());
                         fields[k] = TOKENS[rng.below(TOKENS.len())].to_string();
                         lines[i] = fields.join(",");
@@ -105,7 +138,8 @@ fn check_sound(bytes: &[u8]) {
 
 #[test]
 fn random_and_mutated_files_never_panic() {
-    let cases: usize = std::env::var("RINGLAB_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(40_000);
+    let cases: usize =
+        std::env::var("RINGLAB_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(40_000);
     let sample = std::fs::read(common::test_data("sample-ring.csv")).expect("sample");
     let text = String::from_utf8_lossy(&sample);
     // The header and 30 frames: mutations then hit the header as often as the frames.

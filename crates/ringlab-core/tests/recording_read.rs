@@ -4,7 +4,9 @@
 mod common;
 
 use ringlab_core::physics::Shape;
-use ringlab_core::recording::{Camera, ReadErrorKind, parse_recording, read_recording, write_recording};
+use ringlab_core::recording::{
+    Camera, ReadErrorKind, parse_recording, read_recording, write_recording,
+};
 use std::path::Path;
 
 fn sample_text() -> String {
@@ -19,7 +21,10 @@ fn fails(text: &str) -> (Option<usize>, ReadErrorKind) {
             let shown = e.to_string();
             assert!(shown.starts_with("test.csv"), "error does not name the file: {shown}");
             if let Some(l) = e.line {
-                assert!(shown.starts_with(&format!("test.csv:{l}: ")), "error does not show its line: {shown}");
+                assert!(
+                    shown.starts_with(&format!("test.csv:{l}: ")),
+                    "error does not show its line: {shown}"
+                );
             }
             (e.line, e.kind)
         }
@@ -47,7 +52,12 @@ fn reads_the_sample_exactly() {
         let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
         assert_eq!(fields[0] as usize, i);
         for k in 0..4 {
-            assert_eq!(rec.frames[i][k], Some([fields[1 + 2 * k], fields[2 + 2 * k]]), "frame {i} mark {}", k + 1);
+            assert_eq!(
+                rec.frames[i][k],
+                Some([fields[1 + 2 * k], fields[2 + 2 * k]]),
+                "frame {i} mark {}",
+                k + 1
+            );
         }
     }
     assert_eq!(rec.time_s(300), 1.0);
@@ -67,7 +77,9 @@ fn missing_marks_are_allowed_and_kept_missing() {
 
 #[test]
 fn tolerates_crlf_blank_lines_comments_and_unknown_keys() {
-    let text = head(3).replace("# fps = 300.0\n", "# fps = 300.0\n# lab = Berkeley\n# a comment\n\n").replace('\n', "\r\n");
+    let text = head(3)
+        .replace("# fps = 300.0\n", "# fps = 300.0\n# lab = Berkeley\n# a comment\n\n")
+        .replace('\n', "\r\n");
     let rec = parse_recording(text.as_bytes(), Path::new("t.csv")).expect("reads");
     assert_eq!(rec.frames.len(), 3);
     assert_eq!(rec.header.extra, vec![("lab".to_string(), "Berkeley".to_string())]);
@@ -76,28 +88,51 @@ fn tolerates_crlf_blank_lines_comments_and_unknown_keys() {
 #[test]
 fn missing_required_keys_are_named_at_the_end_of_the_header() {
     for key in ["fps", "px_per_mm", "shape", "outer_radius_mm", "width_mm", "thickness_mm"] {
-        let text: String = head(5).lines().filter(|l| !l.starts_with(&format!("# {key} ="))).map(|l| format!("{l}\n")).collect();
+        let text: String = head(5)
+            .lines()
+            .filter(|l| !l.starts_with(&format!("# {key} =")))
+            .map(|l| format!("{l}\n"))
+            .collect();
         let (line, kind) = fails(&text);
-        assert!(matches!(kind, ReadErrorKind::MissingKey { key: k } if k == key), "{key}: {kind:?}");
+        assert!(
+            matches!(kind, ReadErrorKind::MissingKey { key: k } if k == key),
+            "{key}: {kind:?}"
+        );
         assert_eq!(line, Some(9), "{key}: the column header line");
     }
     // A disk may leave out its thickness.
-    let disk = head(5).replace("shape = ring", "shape = disk").replace("# thickness_mm = 1.0\n", "");
+    let disk =
+        head(5).replace("shape = ring", "shape = disk").replace("# thickness_mm = 1.0\n", "");
     assert!(parse_recording(disk.as_bytes(), Path::new("d.csv")).is_ok());
 }
 
 #[test]
 fn non_numeric_and_non_finite_values_are_reported_with_their_line() {
     let (line, kind) = fails(&head(5).replace("# fps = 300.0", "# fps = fast"));
-    assert_eq!((line, kind), (Some(2), ReadErrorKind::NotNumeric { what: "fps".into(), value: "fast".into() }));
+    assert_eq!(
+        (line, kind),
+        (Some(2), ReadErrorKind::NotNumeric { what: "fps".into(), value: "fast".into() })
+    );
     let (line, kind) = fails(&head(5).replace("# width_mm = 18.0", "# width_mm = inf"));
-    assert_eq!((line, kind), (Some(6), ReadErrorKind::NonFinite { what: "width_mm".into(), value: "inf".into() }));
+    assert_eq!(
+        (line, kind),
+        (Some(6), ReadErrorKind::NonFinite { what: "width_mm".into(), value: "inf".into() })
+    );
     let (line, kind) = fails(&head(5).replace("2,638.76,", "2,abc,"));
-    assert_eq!((line, kind), (Some(13), ReadErrorKind::NotNumeric { what: "x1".into(), value: "abc".into() }));
+    assert_eq!(
+        (line, kind),
+        (Some(13), ReadErrorKind::NotNumeric { what: "x1".into(), value: "abc".into() })
+    );
     let (line, kind) = fails(&head(5).replace(",505.41,", ",NaN,"));
-    assert_eq!((line, kind), (Some(14), ReadErrorKind::NonFinite { what: "y2".into(), value: "NaN".into() }));
+    assert_eq!(
+        (line, kind),
+        (Some(14), ReadErrorKind::NonFinite { what: "y2".into(), value: "NaN".into() })
+    );
     let (line, kind) = fails(&head(5).replace(",585.12,", ",1e400,"));
-    assert_eq!((line, kind), (Some(14), ReadErrorKind::NonFinite { what: "x4".into(), value: "1e400".into() }));
+    assert_eq!(
+        (line, kind),
+        (Some(14), ReadErrorKind::NonFinite { what: "x4".into(), value: "1e400".into() })
+    );
 }
 
 #[test]
@@ -148,14 +183,23 @@ fn scale_and_frame_rate_must_be_positive() {
 #[test]
 fn other_malformed_files_are_reported() {
     assert_eq!(fails("").1, ReadErrorKind::Empty);
-    assert_eq!(fails("frame,x1\n0,1\n"), (Some(1), ReadErrorKind::NotARecording { found: "frame,x1".into() }));
-    assert_eq!(fails(&head(3).replace(" v1", " v2")), (Some(1), ReadErrorKind::UnsupportedVersion { found: "v2".into() }));
+    assert_eq!(
+        fails("frame,x1\n0,1\n"),
+        (Some(1), ReadErrorKind::NotARecording { found: "frame,x1".into() })
+    );
+    assert_eq!(
+        fails(&head(3).replace(" v1", " v2")),
+        (Some(1), ReadErrorKind::UnsupportedVersion { found: "v2".into() })
+    );
     let (line, kind) = fails(&head(3).replace("frame,x1,y1", "frame,u1,y1"));
     assert_eq!(line, Some(10));
     assert!(matches!(kind, ReadErrorKind::BadColumns { .. }));
     let header_only: String = sample_text().lines().take(9).map(|l| format!("{l}\n")).collect();
     assert_eq!(fails(&header_only), (None, ReadErrorKind::MissingColumns));
-    assert_eq!(fails(&head(3).replace("\n1,", "\n1,5,")), (Some(12), ReadErrorKind::FieldCount { found: 10 }));
+    assert_eq!(
+        fails(&head(3).replace("\n1,", "\n1,5,")),
+        (Some(12), ReadErrorKind::FieldCount { found: 10 })
+    );
     assert_eq!(
         fails(&head(3).replace("\n1,657.26,438.40", "\n1,657.26,")),
         (Some(12), ReadErrorKind::HalfMark { mark: 1, present: "x1", missing: "y1" })
@@ -164,24 +208,35 @@ fn other_malformed_files_are_reported() {
         fails(&head(3).replace("# fps = 300.0", "# fps = 300.0\n# fps = 250")),
         (Some(3), ReadErrorKind::DuplicateKey { key: "fps".into(), first_line: 2 })
     );
-    assert_eq!(fails(&head(3).replace("shape = ring", "shape = torus")), (Some(4), ReadErrorKind::UnknownShape { value: "torus".into() }));
+    assert_eq!(
+        fails(&head(3).replace("shape = ring", "shape = torus")),
+        (Some(4), ReadErrorKind::UnknownShape { value: "torus".into() })
+    );
     let (line, kind) = fails(&head(3).replace("thickness_mm = 1.0", "thickness_mm = 30"));
     assert_eq!(line, Some(7));
-    assert!(matches!(kind, ReadErrorKind::InvalidBody(ref m) if m.contains("wall thickness")), "{kind:?}");
+    assert!(
+        matches!(kind, ReadErrorKind::InvalidBody(ref m) if m.contains("wall thickness")),
+        "{kind:?}"
+    );
     let mut bytes = head(3).into_bytes();
     let at = bytes.len() - 5;
     bytes[at] = 0xff;
     let e = parse_recording(&bytes, Path::new("b.csv")).unwrap_err();
     assert_eq!((e.line, e.kind), (Some(13), ReadErrorKind::InvalidUtf8));
     let e = read_recording(Path::new("/nonexistent/ringlab/x.csv")).unwrap_err();
-    assert!(matches!(e.kind, ReadErrorKind::Io(_)) && e.to_string().contains("/nonexistent/ringlab/x.csv"));
+    assert!(
+        matches!(e.kind, ReadErrorKind::Io(_))
+            && e.to_string().contains("/nonexistent/ringlab/x.csv")
+    );
 }
 
 #[test]
 fn camera_keys_are_read_checked_and_written() {
     // The sample with a camera distance on line 10 and a tilt on line 11.
     let with = |d: &str, t: &str| {
-        let camera = format!("# image_height_px = 1024\n# camera_distance_mm = {d}\n# camera_tilt_deg = {t}\n");
+        let camera = format!(
+            "# image_height_px = 1024\n# camera_distance_mm = {d}\n# camera_tilt_deg = {t}\n"
+        );
         head(5).replace("# image_height_px = 1024\n", &camera)
     };
     let rec = parse_recording(with("450", "-12.5").as_bytes(), Path::new("t.csv")).expect("reads");
@@ -205,23 +260,42 @@ fn camera_keys_are_read_checked_and_written() {
     assert!(!String::from_utf8(out).unwrap().contains("camera_"));
     // A distance must be a positive finite number, a tilt within (-80, 80) degrees.
     let dist = "camera_distance_mm";
-    assert_eq!(fails(&with("0", "5")), (Some(10), ReadErrorKind::NotPositive { key: dist, value: 0.0 }));
-    assert_eq!(fails(&with("-450", "5")), (Some(10), ReadErrorKind::NotPositive { key: dist, value: -450.0 }));
-    assert_eq!(fails(&with("inf", "5")), (Some(10), ReadErrorKind::NonFinite { what: dist.into(), value: "inf".into() }));
-    assert_eq!(fails(&with("far", "5")), (Some(10), ReadErrorKind::NotNumeric { what: dist.into(), value: "far".into() }));
+    assert_eq!(
+        fails(&with("0", "5")),
+        (Some(10), ReadErrorKind::NotPositive { key: dist, value: 0.0 })
+    );
+    assert_eq!(
+        fails(&with("-450", "5")),
+        (Some(10), ReadErrorKind::NotPositive { key: dist, value: -450.0 })
+    );
+    assert_eq!(
+        fails(&with("inf", "5")),
+        (Some(10), ReadErrorKind::NonFinite { what: dist.into(), value: "inf".into() })
+    );
+    assert_eq!(
+        fails(&with("far", "5")),
+        (Some(10), ReadErrorKind::NotNumeric { what: dist.into(), value: "far".into() })
+    );
     let tilt = "camera_tilt_deg";
     for bad in [80.0, -80.0, 95.0, -400.0] {
         let kind = ReadErrorKind::OutOfRange { key: tilt, value: bad, lo: -80.0, hi: 80.0 };
         assert_eq!(fails(&with("450", &bad.to_string())), (Some(11), kind));
     }
-    assert_eq!(fails(&with("450", "NaN")), (Some(11), ReadErrorKind::NonFinite { what: tilt.into(), value: "NaN".into() }));
+    assert_eq!(
+        fails(&with("450", "NaN")),
+        (Some(11), ReadErrorKind::NonFinite { what: tilt.into(), value: "NaN".into() })
+    );
     let e = parse_recording(with("450", "85").as_bytes(), Path::new("t.csv")).unwrap_err();
-    assert_eq!(e.to_string(), "t.csv:11: camera_tilt_deg = 85 must lie between -80 and 80 (exclusive)");
+    assert_eq!(
+        e.to_string(),
+        "t.csv:11: camera_tilt_deg = 85 must lie between -80 and 80 (exclusive)"
+    );
     // Just inside the range, and a tilt without a distance, are fine.
     for (d, t) in [("450", "79.9"), ("1e4", "-79.9")] {
         assert!(parse_recording(with(d, t).as_bytes(), Path::new("t.csv")).is_ok(), "{d} {t}");
     }
-    let tilt_only = head(5).replace("# image_height_px = 1024\n", "# image_height_px = 1024\n# camera_tilt_deg = 3\n");
+    let tilt_only = head(5)
+        .replace("# image_height_px = 1024\n", "# image_height_px = 1024\n# camera_tilt_deg = 3\n");
     let rec = parse_recording(tilt_only.as_bytes(), Path::new("t.csv")).unwrap();
     assert_eq!((rec.header.camera_distance_mm, rec.header.camera_tilt_deg), (None, Some(3.0)));
 }

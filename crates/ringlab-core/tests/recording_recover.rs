@@ -59,9 +59,13 @@ fn recovers_the_sample_motion_within_its_uncertainties() {
             zpsi.push(wrap(ang.psi - s.psi()) / f.angles_sigma[2]);
         }
     }
-    for (name, z, lo, hi) in
-        [("A", &za, 0.85, 1.2), ("theta", &ztheta, 0.8, 1.3), ("phi", &zphi, 0.8, 1.4), ("psi", &zpsi, 0.8, 1.4), ("v_p", &zv, 0.85, 1.2)]
-    {
+    for (name, z, lo, hi) in [
+        ("A", &za, 0.85, 1.2),
+        ("theta", &ztheta, 0.8, 1.3),
+        ("phi", &zphi, 0.8, 1.4),
+        ("psi", &zpsi, 0.8, 1.4),
+        ("v_p", &zv, 0.85, 1.2),
+    ] {
         let (rms, beyond) = z_stats(z);
         assert!(rms > lo && rms < hi, "{name}: z rms {rms:.3} over {} frames", z.len());
         assert!(beyond < 0.01, "{name}: {:.2}% beyond 4 sigma", beyond * 100.0);
@@ -72,14 +76,30 @@ fn recovers_the_sample_motion_within_its_uncertainties() {
     let dt = 1.0 / 300.0 / ts;
     let truth_points: Vec<(TurnKind, f64, f64)> = {
         let opts = ringlab_core::physics::RunOptions { sample_dt: None, ..Default::default() };
-        let (summary, _) = ringlab_core::physics::simulate(t.model.clone(), &t.initial, opts).unwrap();
-        summary.turning_points.iter().skip(1).map(|p| (p.kind, p.sample.t / dt, p.sample.theta())).collect()
+        let (summary, _) =
+            ringlab_core::physics::simulate(t.model.clone(), &t.initial, opts).unwrap();
+        summary
+            .turning_points
+            .iter()
+            .skip(1)
+            .map(|p| (p.kind, p.sample.t / dt, p.sample.theta()))
+            .collect()
     };
     for (k, p) in m.turning_points.iter().take(20).enumerate() {
         let (kind, at, theta) = truth_points[k];
         assert_eq!(p.kind, kind, "turning point {k}");
-        assert!((p.at - at).abs() < 4.0 * p.at_sigma + 0.3, "turning point {k} at frame {:.2} +- {:.2}, truth {at:.2}", p.at, p.at_sigma);
-        assert!((p.theta - theta).abs() < 4.0 * p.theta_sigma + 0.01, "turning point {k}: theta {} +- {}, truth {theta}", p.theta, p.theta_sigma);
+        assert!(
+            (p.at - at).abs() < 4.0 * p.at_sigma + 0.3,
+            "turning point {k} at frame {:.2} +- {:.2}, truth {at:.2}",
+            p.at,
+            p.at_sigma
+        );
+        assert!(
+            (p.theta - theta).abs() < 4.0 * p.theta_sigma + 0.01,
+            "turning point {k}: theta {} +- {}, truth {theta}",
+            p.theta,
+            p.theta_sigma
+        );
     }
 
     // The start state reconstructed from the data alone is close to the truth's.

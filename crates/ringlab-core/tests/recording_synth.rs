@@ -7,9 +7,9 @@ mod truth;
 use ringlab_core::config::load_preset;
 use ringlab_core::physics::EffectKind;
 use ringlab_core::physics::run::RunError;
+use ringlab_core::recording::marks::MarkGeometry;
 use ringlab_core::recording::marks::MarkOrder;
 use ringlab_core::recording::synth::{SynthError, SynthOptions, Synthesized, synthesize};
-use ringlab_core::recording::marks::MarkGeometry;
 use ringlab_core::recording::{Camera, parse_recording, read_recording, recover, write_recording};
 use std::path::Path;
 
@@ -32,20 +32,27 @@ fn written(s: &Synthesized) -> Vec<u8> {
 
 #[test]
 fn a_synthesized_recording_reads_back_as_written() {
-    let s = synthesize(&truth_case(), &SynthOptions { missing_fraction: 0.05, ..SynthOptions::default() }).unwrap();
+    let s = synthesize(
+        &truth_case(),
+        &SynthOptions { missing_fraction: 0.05, ..SynthOptions::default() },
+    )
+    .unwrap();
     let back = parse_recording(&written(&s), Path::new("synth.csv")).unwrap();
     assert_eq!(back.header, s.recording.header);
     assert_eq!(back.frames.len(), s.recording.frames.len());
     for (a, b) in back.frames.iter().zip(&s.recording.frames) {
         for (p, q) in a.iter().zip(b) {
             match (p, q) {
-                (Some(p), Some(q)) => assert!((p[0] - q[0]).abs() <= 0.005 && (p[1] - q[1]).abs() <= 0.005),
+                (Some(p), Some(q)) => {
+                    assert!((p[0] - q[0]).abs() <= 0.005 && (p[1] - q[1]).abs() <= 0.005)
+                }
                 (None, None) => {}
                 _ => panic!("a mark changed its presence"),
             }
         }
     }
-    let missing = back.frames.iter().flatten().filter(|m| m.is_none()).count() as f64 / (4 * back.frames.len()) as f64;
+    let missing = back.frames.iter().flatten().filter(|m| m.is_none()).count() as f64
+        / (4 * back.frames.len()) as f64;
     assert!((missing - 0.05).abs() < 0.01, "missing fraction {missing}");
 }
 
@@ -82,29 +89,45 @@ fn made_from_the_truth_it_looks_like_the_sample() {
 #[test]
 fn options_reach_the_recording() {
     let case = truth_case();
-    let base = synthesize(&case, &SynthOptions { noise_px: 0.0, ..SynthOptions::default() }).unwrap();
+    let base =
+        synthesize(&case, &SynthOptions { noise_px: 0.0, ..SynthOptions::default() }).unwrap();
     // Noise-free marks sit on the projected geometry: no noise in the pose fits.
     let m = recover(&base.recording).unwrap();
     assert!(m.noise_px.unwrap() < 0.01, "noise-free recording shows {} px", m.noise_px.unwrap());
 
     // Lens distortion moves points away from the centre (k1 > 0) in proportion to rho^2.
-    let lens = synthesize(&case, &SynthOptions { noise_px: 0.0, lens_k1: 0.05, ..SynthOptions::default() }).unwrap();
+    let lens = synthesize(
+        &case,
+        &SynthOptions { noise_px: 0.0, lens_k1: 0.05, ..SynthOptions::default() },
+    )
+    .unwrap();
     let c = [640.0, 512.0];
     let d = |p: [f64; 2]| (p[0] - c[0]).hypot(p[1] - c[1]);
     let (p, q) = (base.recording.frames[500][0].unwrap(), lens.recording.frames[500][0].unwrap());
     let rho2 = (d(p) / (0.5 * 1280f64.hypot(1024.0))).powi(2);
     assert!((d(q) / d(p) - (1.0 + 0.05 * rho2)).abs() < 1e-9);
-    let as_effect = SynthOptions { noise_px: 0.0, effect: Some((EffectKind::CameraDistortion, 0.05)), ..SynthOptions::default() };
+    let as_effect = SynthOptions {
+        noise_px: 0.0,
+        effect: Some((EffectKind::CameraDistortion, 0.05)),
+        ..SynthOptions::default()
+    };
     assert_eq!(synthesize(&case, &as_effect).unwrap().recording.frames, lens.recording.frames);
 
     // A physical effect changes the motion; the same seed gives the same file.
-    let friction = SynthOptions { effect: Some((EffectKind::RollingFriction, 0.002)), ..SynthOptions::default() };
+    let friction = SynthOptions {
+        effect: Some((EffectKind::RollingFriction, 0.002)),
+        ..SynthOptions::default()
+    };
     let f = synthesize(&case, &friction).unwrap();
     assert!(f.summary.t_end < base.summary.t_end, "rolling friction should end the motion sooner");
     assert_eq!(synthesize(&case, &friction).unwrap().recording.frames, f.recording.frames);
 
     // Mark order and spin direction are read back from the data.
-    let rev = synthesize(&case, &SynthOptions { mark_order: MarkOrder::Reverse, ..SynthOptions::default() }).unwrap();
+    let rev = synthesize(
+        &case,
+        &SynthOptions { mark_order: MarkOrder::Reverse, ..SynthOptions::default() },
+    )
+    .unwrap();
     assert_eq!(recover(&rev.recording).unwrap().mark_order, MarkOrder::Reverse);
     let mut mirrored = load_preset("paper-ring").unwrap();
     mirrored.initial.phi_dot = -4.5;
@@ -121,11 +144,16 @@ fn bad_options_and_unavailable_effects_are_errors() {
         SynthOptions { px_per_mm: f64::NAN, ..SynthOptions::default() },
         SynthOptions { noise_px: -1.0, ..SynthOptions::default() },
         SynthOptions { missing_fraction: 1.0, ..SynthOptions::default() },
-        SynthOptions { lens_k1: 0.1, effect: Some((EffectKind::CameraDistortion, 0.1)), ..SynthOptions::default() },
+        SynthOptions {
+            lens_k1: 0.1,
+            effect: Some((EffectKind::CameraDistortion, 0.1)),
+            ..SynthOptions::default()
+        },
     ] {
         assert!(matches!(synthesize(&case, &bad), Err(SynthError::Option(_))), "{bad:?} accepted");
     }
-    let negative = SynthOptions { effect: Some((EffectKind::PivotFriction, -0.1)), ..SynthOptions::default() };
+    let negative =
+        SynthOptions { effect: Some((EffectKind::PivotFriction, -0.1)), ..SynthOptions::default() };
     assert!(matches!(synthesize(&case, &negative), Err(SynthError::Effect(_))));
     // The sliding contact: either it runs, or the run says clearly that it cannot.
     let slip = SynthOptions { effect: Some((EffectKind::Slip, 0.3)), ..SynthOptions::default() };
@@ -147,7 +175,10 @@ fn a_pinhole_camera_magnifies_the_marks_and_its_header_keys_reproduce_them() {
     let pin = synthesize(&case, &pin_opts).unwrap();
     // By default the header does not say.
     assert_eq!(pin.recording.header, ortho.recording.header);
-    assert_eq!((pin.recording.header.camera_distance_mm, pin.recording.header.camera_tilt_deg), (None, None));
+    assert_eq!(
+        (pin.recording.header.camera_distance_mm, pin.recording.header.camera_tilt_deg),
+        (None, None)
+    );
     // Every mark is above the table, so it is seen farther from the image centre; off the
     // centre by several pixels (about 6% of the distance: 450 / (450 - 27 mm)).
     let centre = [640.0, 512.0];
@@ -167,20 +198,33 @@ fn a_pinhole_camera_magnifies_the_marks_and_its_header_keys_reproduce_them() {
     assert!(far > 100 && shift > 8.0, "{far} marks off the centre, largest shift {shift} px");
     // With the keys in the header (the same marks), the camera read back reproduces them.
     for (distance, tilt) in [(450.0, 0.0), (450.0, 20.0), (700.0, -35.0)] {
-        let opts = SynthOptions { camera_distance_mm: Some(distance), camera_tilt_deg: tilt, camera_in_header: true, ..plain.clone() };
+        let opts = SynthOptions {
+            camera_distance_mm: Some(distance),
+            camera_tilt_deg: tilt,
+            camera_in_header: true,
+            ..plain.clone()
+        };
         let s = synthesize(&case, &opts).unwrap();
         if tilt == 0.0 {
             assert_eq!(s.recording.frames, pin.recording.frames);
         }
         let back = parse_recording(&written(&s), Path::new("pinhole.csv")).unwrap();
-        assert_eq!((back.header.camera_distance_mm, back.header.camera_tilt_deg), (Some(distance), Some(tilt)));
+        assert_eq!(
+            (back.header.camera_distance_mm, back.header.camera_tilt_deg),
+            (Some(distance), Some(tilt))
+        );
         let camera = Camera::for_recording(&back.header, &back.frames);
         assert_eq!(camera, s.camera);
         let geometry = MarkGeometry::of_body(&back.header.body_mm().unwrap(), MarkOrder::Forward);
         let mut worst = 0.0f64;
         for (sample, frame) in s.samples.iter().zip(&back.frames) {
             let l = s.length_mm;
-            let marks = geometry.marks3([sample.x_a * l, sample.y_a * l], sample.phi(), sample.theta(), sample.psi());
+            let marks = geometry.marks3(
+                [sample.x_a * l, sample.y_a * l],
+                sample.phi(),
+                sample.theta(),
+                sample.psi(),
+            );
             for (m, seen) in marks.iter().zip(frame) {
                 let p = camera.to_px3(m[0], m[1], m[2]);
                 let seen = seen.unwrap();
@@ -192,7 +236,12 @@ fn a_pinhole_camera_magnifies_the_marks_and_its_header_keys_reproduce_them() {
         // Read as orthographic (keys dropped), the same marks miss by pixels.
         let flat = Camera { distance_mm: None, tilt_rad: 0.0, ..camera };
         let s0 = &s.samples[0];
-        let m = geometry.marks3([s0.x_a * s.length_mm, s0.y_a * s.length_mm], s0.phi(), s0.theta(), s0.psi())[0];
+        let m = geometry.marks3(
+            [s0.x_a * s.length_mm, s0.y_a * s.length_mm],
+            s0.phi(),
+            s0.theta(),
+            s0.psi(),
+        )[0];
         let seen = back.frames[0][0].unwrap();
         let p = flat.to_px(m[0], m[1]);
         assert!((p[0] - seen[0]).hypot(p[1] - seen[1]) > 2.0, "{distance} mm, {tilt} deg");

@@ -3,7 +3,8 @@
 
 use ringlab_core::physics::slip::{SLIDE_LEN, SlidingModel, painleve_mu_limit};
 use ringlab_core::physics::{
-    Body, Effects, EndReason, Initial, Model, RunOptions, RunSummary, Sample, Shape, Simulation, paper, simulate,
+    Body, Effects, EndReason, Initial, Model, RunOptions, RunSummary, Sample, Shape, Simulation,
+    paper, simulate,
 };
 
 fn with_mu(model: Model, mu: f64) -> Model {
@@ -12,7 +13,8 @@ fn with_mu(model: Model, mu: f64) -> Model {
 }
 
 fn run(model: Model, initial: &Initial, dt: f64) -> (RunSummary, Vec<Sample>) {
-    simulate(model, initial, RunOptions { sample_dt: Some(dt), ..Default::default() }).expect("runs")
+    simulate(model, initial, RunOptions { sample_dt: Some(dt), ..Default::default() })
+        .expect("runs")
 }
 
 /// A gentle launch of the paper's ring: it never lifts off, and rolling needs at most 0.61
@@ -43,7 +45,12 @@ fn with_less_friction_it_slides_in_intervals_and_sticks_again() {
     assert!(stuck >= 2, "it does not stick again: {:?}", s.sliding);
     let inside = |t: f64| s.sliding.iter().any(|i| t > i.start && t < i.end);
     for x in &p {
-        assert_eq!(x.sliding, inside(x.t) || x.sliding && s.sliding.iter().any(|i| x.t == i.start), "t = {}", x.t);
+        assert_eq!(
+            x.sliding,
+            inside(x.t) || x.sliding && s.sliding.iter().any(|i| x.t == i.start),
+            "t = {}",
+            x.t
+        );
         if !x.sliding {
             assert_eq!(x.slip_speed, 0.0);
             // While rolling the friction is within the cone (the switch happens at its edge).
@@ -55,7 +62,8 @@ fn with_less_friction_it_slides_in_intervals_and_sticks_again() {
     }
     // The run departs from the rolling one.
     let (roll, _) = run(paper::ring_model(paper::C_RING), &gentle(), 0.05);
-    let drift = (s.final_sample.x_a - roll.final_sample.x_a).hypot(s.final_sample.y_a - roll.final_sample.y_a);
+    let drift = (s.final_sample.x_a - roll.final_sample.x_a)
+        .hypot(s.final_sample.y_a - roll.final_sample.y_a);
     assert!(drift > 0.05, "drift {drift}");
 }
 
@@ -67,14 +75,27 @@ fn the_slip_speed_starts_and_ends_at_zero_and_is_continuous() {
     let peak = p.iter().map(|x| x.slip_speed).fold(0.0, f64::max);
     assert!(peak > 1e-3, "hardly slides: {peak}");
     // A stick removes no more than creep-level slip (the plastic impulse of slip.rs).
-    assert!(s.stick_residual <= creep && s.stick_residual < 0.05 * peak, "slip left at a stick: {} (creep {creep}, peak {peak})", s.stick_residual);
+    assert!(
+        s.stick_residual <= creep && s.stick_residual < 0.05 * peak,
+        "slip left at a stick: {} (creep {creep}, peak {peak})",
+        s.stick_residual
+    );
     // Continuous: no jump between samples beyond what the slip's rate allows.
     for w in p.windows(2) {
-        assert!((w[1].slip_speed - w[0].slip_speed).abs() < 0.01 * peak.max(1e-3) + 1e-4, "jump at t = {}", w[1].t);
+        assert!(
+            (w[1].slip_speed - w[0].slip_speed).abs() < 0.01 * peak.max(1e-3) + 1e-4,
+            "jump at t = {}",
+            w[1].t
+        );
     }
     // It rises from zero at each onset and falls to zero at each stick.
     for i in &s.sliding {
-        let near = |t: f64| p.iter().filter(|x| x.sliding && (x.t - t).abs() < 2e-3).map(|x| x.slip_speed).fold(0.0, f64::max);
+        let near = |t: f64| {
+            p.iter()
+                .filter(|x| x.sliding && (x.t - t).abs() < 2e-3)
+                .map(|x| x.slip_speed)
+                .fold(0.0, f64::max)
+        };
         assert!(near(i.start) < 0.05 * peak, "onset at {}: {}", i.start, near(i.start));
         if i.end < s.t_end {
             assert!(near(i.end) < 0.05 * peak, "stick at {}: {}", i.end, near(i.end));
@@ -91,7 +112,8 @@ fn sliding_never_raises_the_energy_and_lift_off_is_still_reported() {
         assert!(s.end_reason.is_natural(), "mu {mu}: {:?}", s.end_reason);
         assert!(!s.sliding.is_empty() && s.sliding[0].start == 0.0, "mu {mu}: {:?}", s.sliding);
         assert!(!s.lift_off.is_empty(), "mu {mu}: lift-off not reported");
-        let lift_while_sliding = s.lift_off.iter().any(|l| s.sliding.iter().any(|i| l.start < i.end && l.end > i.start));
+        let lift_while_sliding =
+            s.lift_off.iter().any(|l| s.sliding.iter().any(|i| l.start < i.end && l.end > i.start));
         assert!(lift_while_sliding, "mu {mu}");
         for w in p.windows(2) {
             assert!(
@@ -113,7 +135,8 @@ fn slippage_makes_the_paper_ring_drift() {
     // rolling model's end point.
     let (roll, _) = run(paper::ring_model(paper::C_RING), &paper::initial(), 0.05);
     let (s, _) = run(with_mu(paper::ring_model(paper::C_RING), 0.4), &paper::initial(), 0.05);
-    let drift = (s.final_sample.x_a - roll.final_sample.x_a).hypot(s.final_sample.y_a - roll.final_sample.y_a);
+    let drift = (s.final_sample.x_a - roll.final_sample.x_a)
+        .hypot(s.final_sample.y_a - roll.final_sample.y_a);
     assert!(drift > 2.0, "drift {drift} mean radii");
     assert!(s.sliding.iter().all(|i| i.end < 12.0), "slides late: {:?}", s.sliding);
 }
@@ -130,7 +153,13 @@ fn reversed_spin_gives_the_mirrored_sliding_run() {
         (2.0 * d * ux - x, 2.0 * d * uy - y)
     };
     for (initial_a, initial_b, mu, tol_t, tol_path) in [
-        (gentle(), Initial { phi_dot: -gentle().phi_dot, psi_dot: -gentle().psi_dot, ..gentle() }, 0.3, 1e-8, 1e-6),
+        (
+            gentle(),
+            Initial { phi_dot: -gentle().phi_dot, psi_dot: -gentle().psi_dot, ..gentle() },
+            0.3,
+            1e-8,
+            1e-6,
+        ),
         (a0, b0, 0.4, 1e-8, 1e-5),
         (a0, b0, 0.25, 1e-6, 1e-5),
     ] {
@@ -139,12 +168,23 @@ fn reversed_spin_gives_the_mirrored_sliding_run() {
         let (sb, pb) = run(m, &initial_b, 0.05);
         assert_eq!(sa.sliding.len(), sb.sliding.len(), "mu {mu}");
         for (i, j) in sa.sliding.iter().zip(&sb.sliding) {
-            assert!((i.start - j.start).abs() < tol_t && (i.end - j.end).abs() < tol_t, "mu {mu}: {i:?} vs {j:?}");
+            assert!(
+                (i.start - j.start).abs() < tol_t && (i.end - j.end).abs() < tol_t,
+                "mu {mu}: {i:?} vs {j:?}"
+            );
         }
         let mut worst: f64 = 0.0;
         for (a, b) in pa.iter().zip(&pb) {
-            assert!((a.theta() - b.theta()).abs() < tol_path, "mu {mu}: theta differs at t = {}", a.t);
-            assert!((a.slip_speed - b.slip_speed).abs() < tol_path, "mu {mu}: slip speed differs at t = {}", a.t);
+            assert!(
+                (a.theta() - b.theta()).abs() < tol_path,
+                "mu {mu}: theta differs at t = {}",
+                a.t
+            );
+            assert!(
+                (a.slip_speed - b.slip_speed).abs() < tol_path,
+                "mu {mu}: slip speed differs at t = {}",
+                a.t
+            );
             let (mx, my) = mirror(a.x_a, a.y_a);
             worst = worst.max((mx - b.x_a).hypot(my - b.y_a));
         }
@@ -176,9 +216,17 @@ fn a_disk_launched_sliding_without_spin_rolls_off_at_two_thirds_of_its_speed() {
     assert_eq!(s.end_reason, EndReason::TEnd);
     let t_star = v0 / (3.0 * mu * g);
     assert_eq!(s.sliding.len(), 1, "{:?}", s.sliding);
-    assert!((s.sliding[0].end - t_star).abs() < 1e-6, "sticks at {} not {t_star}", s.sliding[0].end);
+    assert!(
+        (s.sliding[0].end - t_star).abs() < 1e-6,
+        "sticks at {} not {t_star}",
+        s.sliding[0].end
+    );
     for x in &p {
-        let (v, w2) = if x.t < t_star { (v0 - mu * g * x.t, 2.0 * mu * g * x.t / r) } else { (2.0 * v0 / 3.0, 2.0 * v0 / (3.0 * r)) };
+        let (v, w2) = if x.t < t_star {
+            (v0 - mu * g * x.t, 2.0 * mu * g * x.t / r)
+        } else {
+            (2.0 * v0 / 3.0, 2.0 * v0 / (3.0 * r))
+        };
         assert!((x.speed_c - v).abs() < 1e-6, "v at t = {}: {} vs {v}", x.t, x.speed_c);
         assert!((x.y[4] - w2).abs() < 1e-6, "w2 at t = {}", x.t);
         assert!((x.f_n - g).abs() < 1e-6, "F_N at t = {}", x.t);
@@ -222,7 +270,11 @@ fn all_effects_together_still_lose_energy_and_end_naturally() {
     assert!(s.end_reason.is_natural(), "{:?}", s.end_reason);
     assert!(!s.sliding.is_empty());
     for w in p.windows(2) {
-        assert!(w[1].energy <= w[0].energy + 1e-12 * w[0].energy.abs(), "energy rose at t = {}", w[1].t);
+        assert!(
+            w[1].energy <= w[0].energy + 1e-12 * w[0].energy.abs(),
+            "energy rose at t = {}",
+            w[1].t
+        );
     }
 }
 
@@ -239,7 +291,10 @@ fn a_sliding_run_in_mm_is_the_model_run_rescaled() {
     let t0 = case.units.time_s;
     assert_eq!(a.sliding.len(), b.sliding.len());
     for (i, j) in a.sliding.iter().zip(&b.sliding) {
-        assert!((j.start - i.start * t0).abs() < 1e-6 * t0 && (j.end - i.end * t0).abs() < 1e-5 * t0, "{i:?} vs {j:?}");
+        assert!(
+            (j.start - i.start * t0).abs() < 1e-6 * t0 && (j.end - i.end * t0).abs() < 1e-5 * t0,
+            "{i:?} vs {j:?}"
+        );
     }
     assert!((b.t_end - a.t_end * t0).abs() < 1e-5 * b.t_end);
 }
@@ -258,7 +313,12 @@ fn the_sliding_run_converges_with_the_tolerance() {
     let ((a, pa), (b, pb)) = (at(1e-8), at(1e-11));
     assert!(a.sliding.len() > 50, "{}", a.sliding.len());
     assert_eq!(a.sliding.len(), b.sliding.len());
-    let worst = a.sliding.iter().zip(&b.sliding).map(|(i, j)| (i.start - j.start).abs().max((i.end - j.end).abs())).fold(0.0, f64::max);
+    let worst = a
+        .sliding
+        .iter()
+        .zip(&b.sliding)
+        .map(|(i, j)| (i.start - j.start).abs().max((i.end - j.end).abs()))
+        .fold(0.0, f64::max);
     assert!(worst < 1e-5, "switch times move by {worst}");
     for (x, y) in pa.iter().zip(&pb) {
         assert!((x.x_a - y.x_a).hypot(x.y_a - y.y_a) < 1e-4, "A differs at t = {}", x.t);

@@ -40,7 +40,10 @@ impl Axis {
             return Err(format!("{name}: the grid needs at least one point"));
         }
         if !(self.lo.is_finite() && self.hi.is_finite()) || self.lo < 0.0 || self.hi < self.lo {
-            return Err(format!("{name}: range [{}, {}] must be finite with 0 <= lo <= hi", self.lo, self.hi));
+            return Err(format!(
+                "{name}: range [{}, {}] must be finite with 0 <= lo <= hi",
+                self.lo, self.hi
+            ));
         }
         if self.log && self.lo <= 0.0 {
             return Err(format!("{name}: a logarithmic range must start above 0"));
@@ -160,11 +163,15 @@ pub fn classify(model: &Model, initial: &Initial, opts: &RunOptions, c: [f64; 3]
 
 /// The sweep table's columns: a row's place in the grid (`grid_index` of `grid_size`, C1
 /// slowest) lets shards of one grid be joined and checked complete.
-pub const CSV_COLUMNS: &str =
-    "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps,grid_index,grid_size";
+pub const CSV_COLUMNS: &str = "c1,c2,c3,retrograde_turn,inflection_time,prograde_cycles,cycles_before_retrograde,end_reason,t_end,steps,grid_index,grid_size";
 
 /// Writes rows with their grid indices (`indices[i]` is row `i`'s place in a grid of `grid_size`).
-pub fn write_csv(out: &mut impl Write, rows: &[SweepRow], indices: &[usize], grid_size: usize) -> io::Result<()> {
+pub fn write_csv(
+    out: &mut impl Write,
+    rows: &[SweepRow],
+    indices: &[usize],
+    grid_size: usize,
+) -> io::Result<()> {
     writeln!(out, "{CSV_COLUMNS}")?;
     for (r, index) in rows.iter().zip(indices) {
         writeln!(

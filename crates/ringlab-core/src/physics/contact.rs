@@ -23,7 +23,13 @@ fn head(y: &SlideVec) -> StateVec {
 }
 
 impl Contact {
-    pub fn rolling(model: Model, t0: f64, y0: StateVec, tol: Tolerances, h_max: f64) -> Result<Contact, IntegratorError> {
+    pub fn rolling(
+        model: Model,
+        t0: f64,
+        y0: StateVec,
+        tol: Tolerances,
+        h_max: f64,
+    ) -> Result<Contact, IntegratorError> {
         Ok(Contact::Rolling(Dop853::new(model, t0, y0, tol, h_max)?))
     }
 
@@ -141,7 +147,9 @@ impl Contact {
         };
         match self {
             Contact::Rolling(s) => s.system.kinetic_energy(s.y()),
-            Contact::Sliding(s) => sliding_energy(&s.system.model, s.y()) - potential(&s.system.model, s.y()),
+            Contact::Sliding(s) => {
+                sliding_energy(&s.system.model, s.y()) - potential(&s.system.model, s.y())
+            }
         }
     }
 

@@ -75,7 +75,10 @@ impl EffectKind {
 
     /// Whether the effect is in the physics (`Effects`) rather than the camera.
     pub fn is_physical(self) -> bool {
-        !matches!(self, EffectKind::None | EffectKind::CameraDistortion | EffectKind::CameraPerspective)
+        !matches!(
+            self,
+            EffectKind::None | EffectKind::CameraDistortion | EffectKind::CameraPerspective
+        )
     }
 
     /// The free numbers a fit of the effect adds: its strength, and for `camera_perspective`
@@ -174,11 +177,19 @@ pub fn apply(
     effects: &mut Effects,
 ) -> Result<(), ParamError> {
     if !strength.is_finite() {
-        return Err(ParamError { name: "effect strength", value: strength, reason: "must be a finite number" });
+        return Err(ParamError {
+            name: "effect strength",
+            value: strength,
+            reason: "must be a finite number",
+        });
     }
     let non_negative = |v: f64| {
         if v < 0.0 {
-            Err(ParamError { name: "effect strength", value: v, reason: "must not be negative for this effect" })
+            Err(ParamError {
+                name: "effect strength",
+                value: v,
+                reason: "must not be negative for this effect",
+            })
         } else {
             Ok(v)
         }

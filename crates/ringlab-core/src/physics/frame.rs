@@ -19,11 +19,7 @@ impl ResalFrame {
         // E2' = (-sin phi, cos phi, 0): the horizontal direction normal to e1.
         let e2h = Vector3::new(-sp, cp, 0.0);
         let z = Vector3::z();
-        ResalFrame {
-            e1: Vector3::new(cp, sp, 0.0),
-            e2: ct * e2h + st * z,
-            e3: -st * e2h + ct * z,
-        }
+        ResalFrame { e1: Vector3::new(cp, sp, 0.0), e2: ct * e2h + st * z, e3: -st * e2h + ct * z }
     }
 
     /// The rotation taking frame components to table components (columns `e1, e2, e3`).

@@ -43,7 +43,11 @@ impl Model {
     /// `u`: the torque of rolling and pivot friction per unit normal force, for angular
     /// velocity `w` with table normal `z` (frame components).
     #[inline]
-    pub fn contact_torque_per_normal_force(&self, w: &Vector3<f64>, z: &Vector3<f64>) -> Vector3<f64> {
+    pub fn contact_torque_per_normal_force(
+        &self,
+        w: &Vector3<f64>,
+        z: &Vector3<f64>,
+    ) -> Vector3<f64> {
         let e = &self.effects;
         let eps = self.friction_smoothing_rate();
         let mut u = Vector3::zeros();
@@ -124,7 +128,8 @@ mod tests {
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
         let i_w = b.inertia.component_mul(w);
         let c = m.drag_coefficients(d.v_c.norm());
-        let tau = Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
+        let tau =
+            Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let r_g = b.r_g();
         let rot = b.inertia.component_mul(&d.omega_dot) + om.cross(&i_w) + r_g.cross(&d.force)
             - b.j * tau
@@ -141,14 +146,20 @@ mod tests {
             Effects { rolling_friction: 0.05, ..Default::default() },
             Effects { pivot_friction: 0.05, ..Default::default() },
             Effects { translational_drag: 0.3, ..Default::default() },
-            Effects { rolling_friction: 0.2, pivot_friction: 0.1, translational_drag: 0.3, ..Default::default() },
+            Effects {
+                rolling_friction: 0.2,
+                pivot_friction: 0.1,
+                translational_drag: 0.3,
+                ..Default::default()
+            },
         ] {
             let m = model(e);
             let d = m.dynamics(theta, &w);
             assert!(d.f_n > 0.0);
             assert!(newton_euler_residual(&m, theta, &w) < 1e-13, "{e:?}");
             // The torque used is the one the reported F_N gives.
-            let u = m.contact_torque_per_normal_force(&w, &Vector3::new(0.0, theta.sin(), theta.cos()));
+            let u =
+                m.contact_torque_per_normal_force(&w, &Vector3::new(0.0, theta.sin(), theta.cos()));
             assert!((d.contact_torque - d.f_n * u).norm() < 1e-14, "{e:?}");
         }
     }
@@ -178,7 +189,8 @@ mod tests {
         let d = model(Effects { translational_drag: k, ..Default::default() }).dynamics(theta, &w);
         let v = d.v_c;
         assert!((d.drag_force + k * v.norm() * v).norm() < 1e-15);
-        let d2 = model(Effects { translational_drag: k, ..Default::default() }).dynamics(theta, &(2.0 * w));
+        let d2 = model(Effects { translational_drag: k, ..Default::default() })
+            .dynamics(theta, &(2.0 * w));
         assert!((d2.drag_force.norm() / d.drag_force.norm() - 4.0).abs() < 1e-12);
     }
 
@@ -189,14 +201,21 @@ mod tests {
         let w = Vector3::new(0.0, 8.0 * theta.sin(), 8.0 * theta.cos());
         let base = paper::ring_model(paper::C_RING).dynamics(theta, &w);
         assert!(base.f_n < 0.0, "not a lift-off state: F_N = {}", base.f_n);
-        let d = model(Effects { rolling_friction: 0.05, pivot_friction: 0.05, ..Default::default() }).dynamics(theta, &w);
+        let d =
+            model(Effects { rolling_friction: 0.05, pivot_friction: 0.05, ..Default::default() })
+                .dynamics(theta, &w);
         assert_eq!(d.contact_torque, Vector3::zeros());
         assert!((d.f_n - base.f_n).abs() < 1e-14);
     }
 
     #[test]
     fn losses_never_supply_power() {
-        let m = model(Effects { rolling_friction: 0.1, pivot_friction: 0.1, translational_drag: 0.5, ..Default::default() });
+        let m = model(Effects {
+            rolling_friction: 0.1,
+            pivot_friction: 0.1,
+            translational_drag: 0.5,
+            ..Default::default()
+        });
         for k in 0..200 {
             let x = k as f64;
             let theta = 0.05 + 1.4 * (0.37 * x).sin().abs();

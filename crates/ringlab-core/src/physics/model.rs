@@ -247,7 +247,8 @@ impl Model {
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = y[ix::THETA].sin_cos();
         let v_c = Vector3::new(w.y * b.r - w.z * b.h / 2.0, -w.x * b.r, w.x * b.h / 2.0);
-        let rot = 0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
+        let rot =
+            0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
         rot + 0.5 * v_c.norm_squared() + self.g * (0.5 * b.h * st + b.r * ct)
     }
 
@@ -261,7 +262,13 @@ impl Model {
 
 impl Dynamics {
     #[inline]
-    pub(crate) fn from_force(omega_dot: Vector3<f64>, force: Vector3<f64>, st: f64, ct: f64, v_c: Vector3<f64>) -> Dynamics {
+    pub(crate) fn from_force(
+        omega_dot: Vector3<f64>,
+        force: Vector3<f64>,
+        st: f64,
+        ct: f64,
+        v_c: Vector3<f64>,
+    ) -> Dynamics {
         Dynamics {
             omega_dot,
             force,

@@ -44,9 +44,15 @@ impl Phase {
     /// A sentence for the live view.
     pub fn describe(self) -> &'static str {
         match self {
-            Phase::Prograde => "prograde cycloids: the path loops and turns with the spin, like a coin",
-            Phase::Walk => "directional walk: cusps joined by half-circle arcs along a nearly straight line",
-            Phase::Retrograde => "retrograde turn: the path spirals against the spin round a new centre",
+            Phase::Prograde => {
+                "prograde cycloids: the path loops and turns with the spin, like a coin"
+            }
+            Phase::Walk => {
+                "directional walk: cusps joined by half-circle arcs along a nearly straight line"
+            }
+            Phase::Retrograde => {
+                "retrograde turn: the path spirals against the spin round a new centre"
+            }
         }
     }
 }

@@ -9,8 +9,7 @@ use std::f64::consts::FRAC_PI_2;
 /// The smallest value of `1 - kappa m_1 / I_1` that [`mu_limit`] allows.
 const PAINLEVE_MARGIN: f64 = 0.25;
 
-pub const PAINLEVE_REASON: &str =
-    "is too large for this body: sliding friction would make the normal force ill-defined (Painleve's paradox; slip::painleve_mu_limit gives the bound)";
+pub const PAINLEVE_REASON: &str = "is too large for this body: sliding friction would make the normal force ill-defined (Painleve's paradox; slip::painleve_mu_limit gives the bound)";
 
 /// The largest `mu` for which the sliding solve stays well posed with a margin, for every tilt
 /// `theta` in `[0, pi/2]` and every slip direction: `1 - kappa m_1 / I_1 >= 1/4` when

@@ -48,7 +48,13 @@ impl Sample {
         let d = model.dynamics(y);
         let mut y8 = [0.0; super::model::STATE_LEN];
         y8.copy_from_slice(&y[..super::model::STATE_LEN]);
-        let mut s = Sample::with_dynamics(&model.model, t, &y8, &d.dynamics, sliding_energy(&model.model, y));
+        let mut s = Sample::with_dynamics(
+            &model.model,
+            t,
+            &y8,
+            &d.dynamics,
+            sliding_energy(&model.model, y),
+        );
         s.sliding = true;
         s.slip_speed = d.v_slip[0].hypot(d.v_slip[1]);
         s
@@ -120,4 +126,3 @@ impl Sample {
         self.y[ix::W3] / self.theta().cos()
     }
 }
-

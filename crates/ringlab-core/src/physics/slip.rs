@@ -178,7 +178,8 @@ impl SlidingModel {
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
         let i_w = b.inertia.component_mul(&w);
         let c = m.drag_coefficients(v_c.norm());
-        let tau = Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
+        let tau =
+            Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let bv = -om.cross(&i_w) + b.j * tau;
         let f_d = m.air_drag_force(&v_c);
         let u = m.contact_torque_per_normal_force(&w, &z);
@@ -226,7 +227,12 @@ impl System<SLIDE_LEN> for SlidingModel {
 
 /// Horizontal velocity of C while rolling (`omega x r_G`), table components: the `e1` part
 /// `w2 R - w3 h/2` and the `E2'` part `-w1 z_C`.
-fn rolling_velocity_table(b: &Body, y: &[f64], (st, ct): (f64, f64), (sp, cp): (f64, f64)) -> [f64; 2] {
+fn rolling_velocity_table(
+    b: &Body,
+    y: &[f64],
+    (st, ct): (f64, f64),
+    (sp, cp): (f64, f64),
+) -> [f64; 2] {
     let a = 0.5 * b.h;
     let along_e1 = y[ix::W2] * b.r - y[ix::W3] * a;
     let along_e2h = -y[ix::W1] * (a * st + b.r * ct);
@@ -329,7 +335,9 @@ mod tests {
     use crate::physics::paper;
 
     fn ring(mu: f64) -> Model {
-        paper::ring_model(paper::C_RING).with_effects(Effects { slip_mu: Some(mu), ..Default::default() }).unwrap()
+        paper::ring_model(paper::C_RING)
+            .with_effects(Effects { slip_mu: Some(mu), ..Default::default() })
+            .unwrap()
     }
 
     fn some_sliding_state() -> SlideVec {
@@ -350,14 +358,20 @@ mod tests {
         let ft = [dd.f_1 * cp - dd.f_f * sp, dd.f_1 * sp + dd.f_f * cp];
         let vs = slip_velocity(&m, &y);
         let vn = vs[0].hypot(vs[1]);
-        assert!((ft[0] + 0.3 * dd.f_n * vs[0] / vn).abs() < 1e-9 && (ft[1] + 0.3 * dd.f_n * vs[1] / vn).abs() < 1e-9);
+        assert!(
+            (ft[0] + 0.3 * dd.f_n * vs[0] / vn).abs() < 1e-9
+                && (ft[1] + 0.3 * dd.f_n * vs[1] / vn).abs() < 1e-9
+        );
         // Eq. 1 about C.
         let (st, ct) = y[ix::THETA].sin_cos();
         let w = Vector3::new(y[3], y[4], y[5]);
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
         let c = m.drag_coefficients(dd.v_c.norm());
-        let tau = Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
-        let rot = b.inertia.component_mul(&dd.omega_dot) + om.cross(&b.inertia.component_mul(&w)) + b.r_g().cross(&dd.force)
+        let tau =
+            Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
+        let rot = b.inertia.component_mul(&dd.omega_dot)
+            + om.cross(&b.inertia.component_mul(&w))
+            + b.r_g().cross(&dd.force)
             - b.j * tau;
         assert!(rot.norm() < 1e-13, "{rot}");
         // Vertical: F_N - g = z_C'' by a finite difference of z_C' = kappa w1 along the motion.
@@ -406,11 +420,17 @@ mod tests {
         let y8 = [0.3, th, 0.0, 0.3, 4.5 * th.sin() - 3.0, 4.5 * th.cos(), 0.0, 0.0];
         let (f, f_n) = rolling_friction_demand(&m0, &y8);
         let mu = f[0].hypot(f[1]) / f_n;
-        let m = m0.clone().with_effects(Effects { slip_mu: Some(mu), ..Default::default() }).unwrap();
+        let m =
+            m0.clone().with_effects(Effects { slip_mu: Some(mu), ..Default::default() }).unwrap();
         let roll = m.dynamics(y8[1], &Vector3::new(y8[3], y8[4], y8[5]));
         let sm = SlidingModel::new(m.clone(), mu, onset_direction(&m, &y8));
         let slide = sm.dynamics(&sliding_state(&m, &y8));
-        assert!((roll.omega_dot - slide.dynamics.omega_dot).norm() < 1e-8, "{} vs {}", roll.omega_dot, slide.dynamics.omega_dot);
+        assert!(
+            (roll.omega_dot - slide.dynamics.omega_dot).norm() < 1e-8,
+            "{} vs {}",
+            roll.omega_dot,
+            slide.dynamics.omega_dot
+        );
         assert!((roll.force - slide.dynamics.force).norm() < 1e-8);
     }
 
@@ -428,7 +448,9 @@ mod tests {
         assert!(vs[0].hypot(vs[1]) < 1e-15);
         // The impulse acts at P, so the angular momentum about P, `I w + r_G x v_C` (frame
         // components), is the same before and after.
-        let l_p = |w: Vector3<f64>, v_c: Vector3<f64>| m.body.inertia.component_mul(&w) + m.body.r_g().cross(&v_c);
+        let l_p = |w: Vector3<f64>, v_c: Vector3<f64>| {
+            m.body.inertia.component_mul(&w) + m.body.r_g().cross(&v_c)
+        };
         let sm = SlidingModel::new(m.clone(), 0.3, [1.0, 0.0]);
         let before = l_p(Vector3::new(y[3], y[4], y[5]), sm.dynamics(&y).dynamics.v_c);
         let after = l_p(Vector3::new(y8[3], y8[4], y8[5]), sm.dynamics(&back).dynamics.v_c);
@@ -440,6 +462,10 @@ mod tests {
         let m = paper::ring_model(paper::C_RING);
         let lim = painleve_mu_limit(&m);
         assert!(lim > 1.0 && lim < 2.0, "{lim}");
-        assert!(m.clone().with_effects(Effects { slip_mu: Some(lim * 1.01), ..Default::default() }).is_err());
+        assert!(
+            m.clone()
+                .with_effects(Effects { slip_mu: Some(lim * 1.01), ..Default::default() })
+                .is_err()
+        );
     }
 }

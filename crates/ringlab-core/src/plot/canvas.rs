@@ -49,8 +49,10 @@ impl Canvas {
 
     /// Fills `[x0, x1) x [y0, y1)` (pixel coordinates, clipped) with `color` at `alpha`.
     pub fn fill_rect(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, color: Rgb, alpha: f64) {
-        let (xa, xb) = (x0.min(x1).round().max(0.0) as i64, x0.max(x1).round().min(self.width as f64) as i64);
-        let (ya, yb) = (y0.min(y1).round().max(0.0) as i64, y0.max(y1).round().min(self.height as f64) as i64);
+        let (xa, xb) =
+            (x0.min(x1).round().max(0.0) as i64, x0.max(x1).round().min(self.width as f64) as i64);
+        let (ya, yb) =
+            (y0.min(y1).round().max(0.0) as i64, y0.max(y1).round().min(self.height as f64) as i64);
         for y in ya..yb {
             for x in xa..xb {
                 self.blend(x, y, color, alpha);
@@ -73,7 +75,11 @@ impl Canvas {
         for y in lo_y..=hi_y {
             for x in lo_x..=hi_x {
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
-                let t = if len2 > 0.0 { (((px - a.0) * dx + (py - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                let t = if len2 > 0.0 {
+                    (((px - a.0) * dx + (py - a.1) * dy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
                 let d = (px - a.0 - t * dx).hypot(py - a.1 - t * dy);
                 let cover = (r + 0.5 - d).clamp(0.0, 1.0);
                 if cover > 0.0 {
@@ -115,7 +121,12 @@ impl Canvas {
                     if bits & (1 << (GLYPH_W - 1 - col)) != 0 {
                         for dy in 0..s {
                             for dx in 0..s {
-                                self.blend(gx + col as i64 * s + dx, y0 + row as i64 * s + dy, color, 1.0);
+                                self.blend(
+                                    gx + col as i64 * s + dx,
+                                    y0 + row as i64 * s + dy,
+                                    color,
+                                    1.0,
+                                );
                             }
                         }
                     }
@@ -135,7 +146,12 @@ impl Canvas {
                 if let Some(p) = tmp.pixel(tx, ty)
                     && p != WHITE
                 {
-                    self.blend(x.round() as i64 + ty as i64, y.round() as i64 + (w - 1 - tx) as i64, p, 1.0);
+                    self.blend(
+                        x.round() as i64 + ty as i64,
+                        y.round() as i64 + (w - 1 - tx) as i64,
+                        p,
+                        1.0,
+                    );
                 }
             }
         }

@@ -28,7 +28,11 @@ impl Axis {
 
     /// Position of `v` in [0, 1] along the axis.
     fn frac(&self, v: f64) -> f64 {
-        if self.log { (v.max(1e-300).ln() - self.lo.ln()) / (self.hi.ln() - self.lo.ln()) } else { (v - self.lo) / (self.hi - self.lo) }
+        if self.log {
+            (v.max(1e-300).ln() - self.lo.ln()) / (self.hi.ln() - self.lo.ln())
+        } else {
+            (v - self.lo) / (self.hi - self.lo)
+        }
     }
 
     /// Tick values and labels.
@@ -78,11 +82,24 @@ pub struct Chart {
 
 impl Chart {
     /// A `width x height` chart with a title, axis labels, frame, grid and ticks.
-    pub fn new(width: usize, height: usize, title: &str, x_label: &str, y_label: &str, x: Axis, y: Axis) -> Chart {
+    pub fn new(
+        width: usize,
+        height: usize,
+        title: &str,
+        x_label: &str,
+        y_label: &str,
+        x: Axis,
+        y: Axis,
+    ) -> Chart {
         let mut canvas = Canvas::new(width, height, WHITE);
         let th = Canvas::text_height(TITLE) as f64;
         let lh = Canvas::text_height(LABEL) as f64;
-        let area = (20.0 + lh + 60.0, 16.0 + th + 12.0, width as f64 - 24.0, height as f64 - 30.0 - lh - 14.0);
+        let area = (
+            20.0 + lh + 60.0,
+            16.0 + th + 12.0,
+            width as f64 - 24.0,
+            height as f64 - 30.0 - lh - 14.0,
+        );
         let tw = Canvas::text_width(title, TITLE) as f64;
         canvas.text((width as f64 - tw) / 2.0, 12.0, title, TITLE, BLACK);
         let xw = Canvas::text_width(x_label, LABEL) as f64;
@@ -116,7 +133,9 @@ impl Chart {
             let w = Canvas::text_width(&label, TICK) as f64;
             self.canvas.text(x0 - 8.0 - w, py - 4.0, &label, TICK, BLACK);
         }
-        for (a, b) in [((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)), ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))] {
+        for (a, b) in
+            [((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)), ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))]
+        {
             self.canvas.line(a, b, 1.0, BLACK);
         }
     }
@@ -130,7 +149,10 @@ impl Chart {
     pub fn line(&mut self, points: &[(f64, f64)], color: Rgb, width: f64) {
         let mut prev: Option<(f64, f64)> = None;
         for &(x, y) in points {
-            let ok = x.is_finite() && y.is_finite() && (!self.y.log || y > 0.0) && (!self.x.log || x > 0.0);
+            let ok = x.is_finite()
+                && y.is_finite()
+                && (!self.y.log || y > 0.0)
+                && (!self.x.log || x > 0.0);
             let p = ok.then(|| self.px(x, y)).filter(|p| self.inside(*p));
             if let (Some(a), Some(b)) = (prev, p) {
                 self.canvas.line(a, b, width, color);
@@ -181,12 +203,19 @@ impl Chart {
     pub fn finish(mut self, left: bool) -> Canvas {
         if !self.legend.is_empty() {
             let (x0, y0, x1, _) = self.area;
-            let w = self.legend.iter().map(|(l, _)| Canvas::text_width(l, TICK)).max().unwrap_or(0) as f64 + 40.0;
+            let w = self.legend.iter().map(|(l, _)| Canvas::text_width(l, TICK)).max().unwrap_or(0)
+                as f64
+                + 40.0;
             let h = 16.0 * self.legend.len() as f64 + 8.0;
             let lx = if left { x0 + 8.0 } else { x1 - w - 8.0 };
             let ly = y0 + 8.0;
             self.canvas.fill_rect(lx, ly, lx + w, ly + h, WHITE, 0.9);
-            for (a, b) in [((lx, ly), (lx + w, ly)), ((lx + w, ly), (lx + w, ly + h)), ((lx + w, ly + h), (lx, ly + h)), ((lx, ly + h), (lx, ly))] {
+            for (a, b) in [
+                ((lx, ly), (lx + w, ly)),
+                ((lx + w, ly), (lx + w, ly + h)),
+                ((lx + w, ly + h), (lx, ly + h)),
+                ((lx, ly + h), (lx, ly)),
+            ] {
                 self.canvas.line(a, b, 1.0, GREY);
             }
             for (i, (label, color)) in self.legend.iter().enumerate() {

@@ -106,7 +106,11 @@ const GLYPHS: &[(char, &str)] = &[
 
 /// The rows of `c` as bit masks (bit 4 the leftmost column); unknown characters as `?`.
 pub fn glyph(c: char) -> [u8; GLYPH_H] {
-    let text = GLYPHS.iter().find(|g| g.0 == c).or_else(|| GLYPHS.iter().find(|g| g.0 == '?')).map_or("", |g| g.1);
+    let text = GLYPHS
+        .iter()
+        .find(|g| g.0 == c)
+        .or_else(|| GLYPHS.iter().find(|g| g.0 == '?'))
+        .map_or("", |g| g.1);
     let mut rows = [0u8; GLYPH_H];
     for (row, bits) in rows.iter_mut().zip(text.split_whitespace()) {
         *row = bits.bytes().fold(0, |acc, b| (acc << 1) | u8::from(b == b'#'));
@@ -121,10 +125,15 @@ mod tests {
     #[test]
     fn every_printable_character_has_a_well_formed_glyph() {
         for c in ' '..='~' {
-            let g = GLYPHS.iter().find(|g| g.0 == c).unwrap_or_else(|| panic!("no glyph for {c:?}"));
+            let g =
+                GLYPHS.iter().find(|g| g.0 == c).unwrap_or_else(|| panic!("no glyph for {c:?}"));
             let rows: Vec<&str> = g.1.split_whitespace().collect();
             assert_eq!(rows.len(), GLYPH_H, "{c:?}");
-            assert!(rows.iter().all(|r| r.len() == GLYPH_W && r.bytes().all(|b| b == b'#' || b == b'.')), "{c:?}");
+            assert!(
+                rows.iter()
+                    .all(|r| r.len() == GLYPH_W && r.bytes().all(|b| b == b'#' || b == b'.')),
+                "{c:?}"
+            );
         }
         assert_eq!(glyph('T')[0], 0b11111);
         assert_eq!(glyph('\u{e9}'), glyph('?'));

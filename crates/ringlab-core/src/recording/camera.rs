@@ -92,7 +92,12 @@ impl Camera {
             header.image_width_px.map_or(0.5 * (lo[0] + hi[0]), |w| w / 2.0),
             header.image_height_px.map_or(0.5 * (lo[1] + hi[1]), |h| h / 2.0),
         ];
-        view(Camera { origin_px: centre, centre_px: centre, half_diagonal_px: 0.5 * w.hypot(h), ..Camera::centred(header.px_per_mm, w, h) })
+        view(Camera {
+            origin_px: centre,
+            centre_px: centre,
+            half_diagonal_px: 0.5 * w.hypot(h),
+            ..Camera::centred(header.px_per_mm, w, h)
+        })
     }
 
     /// Whether a point's height above the table moves its pixel (a pinhole or a tilted camera):
@@ -171,7 +176,9 @@ impl Camera {
             return u;
         }
         let d = [u[0] - self.centre_px[0], u[1] - self.centre_px[1]];
-        let f = 1.0 + self.k1 * (d[0] * d[0] + d[1] * d[1]) / (self.half_diagonal_px * self.half_diagonal_px);
+        let f = 1.0
+            + self.k1 * (d[0] * d[0] + d[1] * d[1])
+                / (self.half_diagonal_px * self.half_diagonal_px);
         [self.centre_px[0] + d[0] * f, self.centre_px[1] + d[1] * f]
     }
 
@@ -215,7 +222,10 @@ mod tests {
             let cam = Camera { k1, ..Camera::centred(3.0, 1280.0, 1024.0) };
             for p in [[0.0, 0.0], [100.0, -50.0], [-200.0, 150.0]] {
                 let back = cam.to_mm(cam.to_px(p[0], p[1]));
-                assert!((back[0] - p[0]).abs() < 1e-9 && (back[1] - p[1]).abs() < 1e-9, "k1 {k1}: {p:?} -> {back:?}");
+                assert!(
+                    (back[0] - p[0]).abs() < 1e-9 && (back[1] - p[1]).abs() < 1e-9,
+                    "k1 {k1}: {p:?} -> {back:?}"
+                );
             }
         }
         // y grows downward in the image, upward on the table.
@@ -240,12 +250,16 @@ mod tests {
 
     #[test]
     fn pinhole_by_hand() {
-        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+        let close =
+            |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
         // K = 2 px/mm, D = 500 mm, untilted, origin (640, 512): the point (10, 20, 25) is
         // magnified by D / (D - z) = 500 / 475 about the axis, so it is seen at
         // (640 + 2 * 10 * 500 / 475, 512 - 2 * 20 * 500 / 475) = (640 + 21.0526316, 512 - 42.1052632).
         let cam = Camera { distance_mm: Some(500.0), ..Camera::centred(2.0, 1280.0, 1024.0) };
-        assert!(close(cam.to_px3(10.0, 20.0, 25.0), [661.052_631_578_947_4, 469.894_736_842_105_3]));
+        assert!(close(
+            cam.to_px3(10.0, 20.0, 25.0),
+            [661.052_631_578_947_4, 469.894_736_842_105_3]
+        ));
         // On the table the scale is K everywhere, as orthographic.
         assert!(close(cam.to_px(10.0, 20.0), [660.0, 472.0]));
         // Tilted by 30 degrees towards +Y (tilt -30, u = 30: sin u 0.5, cos u sqrt(3)/2 =
@@ -254,11 +268,18 @@ mod tests {
         // so the pixel is (640 + 1000 * 10 / 468.3493649, 512 - 1000 * 4.8205081 / 468.3493649)
         // = (640 + 21.3515823, 512 - 10.2925475).
         let cam = Camera { tilt_rad: -30f64.to_radians(), ..cam };
-        assert!(close(cam.to_px3(10.0, 20.0, 25.0), [661.351_582_278_797_5, 501.707_452_519_632_3]));
+        assert!(close(
+            cam.to_px3(10.0, 20.0, 25.0),
+            [661.351_582_278_797_5, 501.707_452_519_632_3]
+        ));
         // The axis point stays at the origin; the scale along X holds there, Y is foreshortened.
         assert!(close(cam.to_px(0.0, 0.0), [640.0, 512.0]));
         let (dx, dy) = (cam.to_px(1e-4, 0.0)[0] - 640.0, cam.to_px(0.0, 1e-4)[1] - 512.0);
-        assert!((dx / 1e-4 - 2.0).abs() < 1e-6 && (dy / 1e-4 + 2.0 * 30f64.to_radians().cos()).abs() < 1e-6, "{dx} {dy}");
+        assert!(
+            (dx / 1e-4 - 2.0).abs() < 1e-6
+                && (dy / 1e-4 + 2.0 * 30f64.to_radians().cos()).abs() < 1e-6,
+            "{dx} {dy}"
+        );
     }
 
     #[test]
@@ -266,13 +287,27 @@ mod tests {
         for distance in [None, Some(150.0), Some(450.0), Some(2000.0)] {
             for tilt in [-0.6, -0.2, 0.0, 0.25, 0.7] {
                 for k1 in [0.0, -0.03] {
-                    let cam = Camera { distance_mm: distance, tilt_rad: tilt, k1, ..Camera::centred(3.0, 1280.0, 1024.0) };
-                    for p in [[0.0, 0.0, 0.0], [60.0, -35.0, 0.0], [-80.0, 50.0, 28.0], [30.0, 90.0, 12.0], [-45.0, -70.0, -3.0]] {
+                    let cam = Camera {
+                        distance_mm: distance,
+                        tilt_rad: tilt,
+                        k1,
+                        ..Camera::centred(3.0, 1280.0, 1024.0)
+                    };
+                    for p in [
+                        [0.0, 0.0, 0.0],
+                        [60.0, -35.0, 0.0],
+                        [-80.0, 50.0, 28.0],
+                        [30.0, 90.0, 12.0],
+                        [-45.0, -70.0, -3.0],
+                    ] {
                         let px = cam.to_px3(p[0], p[1], p[2]);
                         assert!(px.iter().all(|v| v.is_finite()), "{distance:?} {tilt}: {p:?}");
                         let back = cam.to_mm_at(px, p[2]);
                         let err = (back[0] - p[0]).hypot(back[1] - p[1]);
-                        assert!(err < 1e-9, "{distance:?} {tilt} {k1}: {p:?} -> {px:?} -> {back:?}");
+                        assert!(
+                            err < 1e-9,
+                            "{distance:?} {tilt} {k1}: {p:?} -> {px:?} -> {back:?}"
+                        );
                         if p[2] == 0.0 {
                             assert_eq!(cam.to_px(p[0], p[1]), px);
                             assert!((cam.to_mm(px)[0] - back[0]).abs() < 1e-12);

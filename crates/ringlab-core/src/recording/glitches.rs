@@ -72,7 +72,12 @@ fn signed_area(f: &FrameMarks) -> Option<f64> {
 
 /// The position of `mark` at `frame` predicted from its usable neighbours, and the factor by
 /// which the prediction's residual is noisier than one position (`sqrt(1 + var(pred)/s^2)`).
-fn predict(frames: &[FrameMarks], mark: usize, frame: usize, usable: &dyn Fn(usize) -> bool) -> Option<([f64; 2], f64)> {
+fn predict(
+    frames: &[FrameMarks],
+    mark: usize,
+    frame: usize,
+    usable: &dyn Fn(usize) -> bool,
+) -> Option<([f64; 2], f64)> {
     let lo = frame.saturating_sub(HALF_WIDTH);
     let hi = (frame + HALF_WIDTH).min(frames.len() - 1);
     let points: Vec<(f64, [f64; 2])> = (lo..=hi)
@@ -102,7 +107,8 @@ pub fn find_glitches(frames: &[FrameMarks], noise_px: f64) -> Vec<Glitch> {
     }
     let areas: Vec<Option<f64>> = frames.iter().map(signed_area).collect();
     let majority: f64 = areas.iter().flatten().map(|a| a.signum()).sum();
-    let mut suspect: Vec<bool> = areas.iter().map(|a| a.is_some_and(|a| a.signum() * majority < 0.0)).collect();
+    let mut suspect: Vec<bool> =
+        areas.iter().map(|a| a.is_some_and(|a| a.signum() * majority < 0.0)).collect();
     let mut bad = vec![[false; MARKS]; n];
     let mut found = Vec::new();
     for pass in 0..MAX_PASSES {
@@ -122,7 +128,8 @@ pub fn find_glitches(frames: &[FrameMarks], noise_px: f64) -> Vec<Glitch> {
                 if bad[i][mark] {
                     continue;
                 }
-                let mut near: Vec<f64> = (i.saturating_sub(SCATTER_HALF_WIDTH)..(i + SCATTER_HALF_WIDTH + 1).min(n))
+                let mut near: Vec<f64> = (i.saturating_sub(SCATTER_HALF_WIDTH)
+                    ..(i + SCATTER_HALF_WIDTH + 1).min(n))
                     .filter(|&j| !bad[j][mark] && !suspect[j])
                     .filter_map(|j| raw[j].map(|(r, f)| r / f))
                     .collect();
@@ -181,7 +188,11 @@ mod tests {
     #[test]
     fn clean_tracks_have_no_glitches() {
         for rate in [0.1, 0.33, 0.7] {
-            assert_eq!(find_glitches(&spinning(1500, rate, 0.5, 5), 0.5), Vec::new(), "rate {rate}");
+            assert_eq!(
+                find_glitches(&spinning(1500, rate, 0.5, 5), 0.5),
+                Vec::new(),
+                "rate {rate}"
+            );
         }
     }
 
@@ -194,14 +205,19 @@ mod tests {
             let mark = rng.below(4);
             let off = 10.0 + 50.0 * rng.uniform();
             let angle = std::f64::consts::TAU * rng.uniform();
-            frames[i][mark] = frames[i][mark].map(|p| [p[0] + off * angle.cos(), p[1] + off * angle.sin()]);
+            frames[i][mark] =
+                frames[i][mark].map(|p| [p[0] + off * angle.cos(), p[1] + off * angle.sin()]);
             planted.push(Glitch { frame: i, mark, kind: GlitchKind::Outlier });
         }
         // Marks 1 and 3 (0 and 2 here) swapped for three frames, twice.
         for start in [500, 1201] {
             for i in start..start + 3 {
                 frames[i].swap(0, 2);
-                planted.extend([0, 2].map(|mark| Glitch { frame: i, mark, kind: GlitchKind::Swapped }));
+                planted.extend([0, 2].map(|mark| Glitch {
+                    frame: i,
+                    mark,
+                    kind: GlitchKind::Swapped,
+                }));
             }
         }
         planted.sort_by_key(|g| (g.frame, g.mark));

@@ -69,7 +69,12 @@ impl MarkGeometry {
 
     /// The same geometry with every length multiplied by `k` (a change of unit).
     pub fn scaled(self, k: f64) -> MarkGeometry {
-        MarkGeometry { radius: self.radius * k, r_outer: self.r_outer * k, h: self.h * k, order: self.order }
+        MarkGeometry {
+            radius: self.radius * k,
+            r_outer: self.r_outer * k,
+            h: self.h * k,
+            order: self.order,
+        }
     }
 
     /// Angle `a_k` of mark `k` (0-based) from `e1` towards `e3`.
@@ -87,7 +92,10 @@ impl MarkGeometry {
         let e3 = [st * sp, -st * cp];
         std::array::from_fn(|k| {
             let (s, c) = self.angle(k, psi).sin_cos();
-            [a[0] + self.radius * (c * e1[0] + s * e3[0]), a[1] + self.radius * (c * e1[1] + s * e3[1])]
+            [
+                a[0] + self.radius * (c * e1[0] + s * e3[0]),
+                a[1] + self.radius * (c * e1[1] + s * e3[1]),
+            ]
         })
     }
 
@@ -98,7 +106,9 @@ impl MarkGeometry {
         let m = self.marks(a, phi, theta, psi);
         let (st, ct) = theta.sin_cos();
         let z_a = self.h * st + self.r_outer * ct;
-        std::array::from_fn(|k| [m[k][0], m[k][1], z_a + self.radius * self.angle(k, psi).sin() * ct])
+        std::array::from_fn(|k| {
+            [m[k][0], m[k][1], z_a + self.radius * self.angle(k, psi).sin() * ct]
+        })
     }
 }
 
@@ -111,14 +121,18 @@ mod tests {
         let g = MarkGeometry { radius: 1.0, r_outer: 1.1, h: 0.9, order: MarkOrder::Forward };
         for (phi, theta, psi) in [(0.3, 0.5, 1.0), (-2.0, 1.4, -0.3), (4.0, 0.1, 2.5)] {
             let m = g.marks([0.0, 0.0], phi, theta, psi);
-            let area: f64 = (0..4).map(|k| m[k][0] * m[(k + 1) % 4][1] - m[(k + 1) % 4][0] * m[k][1]).sum();
+            let area: f64 =
+                (0..4).map(|k| m[k][0] * m[(k + 1) % 4][1] - m[(k + 1) % 4][0] * m[k][1]).sum();
             assert!(area < 0.0, "area {area}");
             // Opposite marks are symmetric about A; L13^2 + L24^2 = D^2 (1 + sin^2 theta) (the paper).
             let l13 = (m[0][0] - m[2][0]).hypot(m[0][1] - m[2][1]);
             let l24 = (m[1][0] - m[3][0]).hypot(m[1][1] - m[3][1]);
             assert!((l13 * l13 + l24 * l24 - 4.0 * (1.0 + theta.sin().powi(2))).abs() < 1e-12);
             // 1 + sin^2(psi) (sin^2(theta) - 1) = L13^2 / D^2.
-            assert!((1.0 + psi.sin().powi(2) * (theta.sin().powi(2) - 1.0) - l13 * l13 / 4.0).abs() < 1e-12);
+            assert!(
+                (1.0 + psi.sin().powi(2) * (theta.sin().powi(2) - 1.0) - l13 * l13 / 4.0).abs()
+                    < 1e-12
+            );
         }
     }
 
@@ -130,7 +144,9 @@ mod tests {
         for order in [MarkOrder::Forward, MarkOrder::Reverse] {
             let g = MarkGeometry::of_body(&body, order);
             assert_eq!((g.radius, g.r_outer, g.h), (mark_radius(&body), 20.66, 18.0));
-            for (phi, theta, psi) in [(0.3, 0.5, 1.0), (-2.0, 1.4, -0.3), (4.0, 0.1, 2.5), (1.0, 0.0, 0.7)] {
+            for (phi, theta, psi) in
+                [(0.3, 0.5, 1.0), (-2.0, 1.4, -0.3), (4.0, 0.1, 2.5), (1.0, 0.0, 0.7)]
+            {
                 let (sp, cp) = f64::sin_cos(phi);
                 let (st, ct) = f64::sin_cos(theta);
                 let e2p = [-sp, cp, 0.0];
@@ -143,9 +159,14 @@ mod tests {
                 let flat = g.marks([a[0], a[1]], phi, theta, psi);
                 for k in 0..MARKS {
                     let (s, c) = g.angle(k, psi).sin_cos();
-                    let expected: [f64; 3] = std::array::from_fn(|i| a[i] + g.radius * (c * e1[i] + s * e3[i]));
+                    let expected: [f64; 3] =
+                        std::array::from_fn(|i| a[i] + g.radius * (c * e1[i] + s * e3[i]));
                     for i in 0..3 {
-                        assert!((m[k][i] - expected[i]).abs() < 1e-12, "{k} {i}: {:?} vs {expected:?}", m[k]);
+                        assert!(
+                            (m[k][i] - expected[i]).abs() < 1e-12,
+                            "{k} {i}: {:?} vs {expected:?}",
+                            m[k]
+                        );
                     }
                     assert_eq!([m[k][0], m[k][1]], flat[k]);
                 }

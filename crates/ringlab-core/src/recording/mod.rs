@@ -32,7 +32,7 @@ pub mod tracks;
 pub mod write;
 
 pub use camera::Camera;
-pub use read::{ReadError, ReadErrorKind, read_recording, parse_recording};
+pub use read::{ReadError, ReadErrorKind, parse_recording, read_recording};
 pub use recover::{RecoveredMotion, recover};
 pub use write::write_recording;
 

@@ -7,16 +7,41 @@ use std::io::{self, Write};
 /// mean radii, time in its unit); `v_p_px_per_frame` as in the paper's Fig. 3. Unknown
 /// values (no pose, an unbounded sigma) are empty.
 pub const MOTION_COLUMNS: &[&str] = &[
-    "frame", "t_s", "t_model", "marks", "ax_mm", "ay_mm", "a_sigma_mm", "ax_model", "ay_model", "a_sigma_model", "phi",
-    "phi_sigma", "theta", "theta_sigma", "psi", "psi_sigma", "branch_checked", "v_p_mm_s", "v_p_sigma_mm_s", "v_p_model",
-    "v_p_sigma_model", "v_p_px_per_frame", "still",
+    "frame",
+    "t_s",
+    "t_model",
+    "marks",
+    "ax_mm",
+    "ay_mm",
+    "a_sigma_mm",
+    "ax_model",
+    "ay_model",
+    "a_sigma_model",
+    "phi",
+    "phi_sigma",
+    "theta",
+    "theta_sigma",
+    "psi",
+    "psi_sigma",
+    "branch_checked",
+    "v_p_mm_s",
+    "v_p_sigma_mm_s",
+    "v_p_model",
+    "v_p_sigma_model",
+    "v_p_px_per_frame",
+    "still",
 ];
 
-pub fn write_motion_csv(out: &mut impl Write, m: &RecoveredMotion, first_frame: u64) -> io::Result<()> {
+pub fn write_motion_csv(
+    out: &mut impl Write,
+    m: &RecoveredMotion,
+    first_frame: u64,
+) -> io::Result<()> {
     writeln!(out, "{}", MOTION_COLUMNS.join(","))?;
     let k = m.to_model();
     let px_per_frame = m.camera.px_per_mm / m.fps;
-    let num = |v: Option<f64>| v.filter(|x| x.is_finite()).map(|x| format!("{x:.6}")).unwrap_or_default();
+    let num =
+        |v: Option<f64>| v.filter(|x| x.is_finite()).map(|x| format!("{x:.6}")).unwrap_or_default();
     for (i, f) in m.frames.iter().enumerate() {
         let a = f.a_mm;
         let ang = f.angles;

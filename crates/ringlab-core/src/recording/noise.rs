@@ -42,18 +42,25 @@ fn binomial(n: usize, k: usize) -> f64 {
 /// The noise per pixel coordinate from the marks' tracks; `skip(frame, mark)` leaves a mark
 /// out (a glitch). None when no order has [`MIN_DIFFERENCES`] differences (too few frames
 /// where a mark is tracked `k + 1` times in a row) or all differences are zero.
-pub fn track_noise(frames: &[FrameMarks], skip: &dyn Fn(usize, usize) -> bool) -> Option<NoiseEstimate> {
+pub fn track_noise(
+    frames: &[FrameMarks],
+    skip: &dyn Fn(usize, usize) -> bool,
+) -> Option<NoiseEstimate> {
     let mut best: Option<NoiseEstimate> = None;
     for order in ORDERS {
-        let weights: Vec<f64> = (0..=order).map(|j| if j % 2 == 0 { 1.0 } else { -1.0 } * binomial(order, j)).collect();
+        let weights: Vec<f64> =
+            (0..=order).map(|j| if j % 2 == 0 { 1.0 } else { -1.0 } * binomial(order, j)).collect();
         let mut diffs: Vec<f64> = Vec::with_capacity(8 * frames.len());
         for mark in 0..frames.first().map_or(0, |f| f.len()) {
             for i in 0..frames.len().saturating_sub(order) {
                 let window = i..=i + order;
-                let points: Option<Vec<[f64; 2]>> = window.map(|f| if skip(f, mark) { None } else { frames[f][mark] }).collect();
+                let points: Option<Vec<[f64; 2]>> =
+                    window.map(|f| if skip(f, mark) { None } else { frames[f][mark] }).collect();
                 let Some(points) = points else { continue };
                 for c in 0..2 {
-                    diffs.push(points.iter().zip(&weights).map(|(p, w)| w * p[c]).sum::<f64>().abs());
+                    diffs.push(
+                        points.iter().zip(&weights).map(|(p, w)| w * p[c]).sum::<f64>().abs(),
+                    );
                 }
             }
         }
@@ -84,7 +91,10 @@ pub(crate) mod tests {
                 let t = i as f64;
                 std::array::from_fn(|k| {
                     let a = rate * t - k as f64 * std::f64::consts::FRAC_PI_2;
-                    Some([600.0 + 0.8 * t + 67.0 * a.cos() + s * rng.normal(), 400.0 - 0.3 * t + 40.0 * a.sin() + s * rng.normal()])
+                    Some([
+                        600.0 + 0.8 * t + 67.0 * a.cos() + s * rng.normal(),
+                        400.0 - 0.3 * t + 40.0 * a.sin() + s * rng.normal(),
+                    ])
                 })
             })
             .collect()
@@ -103,7 +113,8 @@ pub(crate) mod tests {
         let mut frames = spinning(2000, 0.33, 0.5, 3);
         let mut rng = Rng::new(11);
         for i in (0..2000).step_by(97) {
-            frames[i][i % 4] = frames[i][i % 4].map(|p| [p[0] + 10.0 + 50.0 * rng.uniform(), p[1] - 30.0]);
+            frames[i][i % 4] =
+                frames[i][i % 4].map(|p| [p[0] + 10.0 + 50.0 * rng.uniform(), p[1] - 30.0]);
             frames[i + 1][(i + 2) % 4] = None;
         }
         let est = track_noise(&frames, &|_, _| false).unwrap();

@@ -58,7 +58,9 @@ impl PoseFit {
 pub fn point_a(m: &FrameMarks) -> Option<[f64; 2]> {
     let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
     match (m[0], m[1], m[2], m[3]) {
-        (Some(a), Some(b), Some(c), Some(d)) => Some([0.25 * (a[0] + b[0] + c[0] + d[0]), 0.25 * (a[1] + b[1] + c[1] + d[1])]),
+        (Some(a), Some(b), Some(c), Some(d)) => {
+            Some([0.25 * (a[0] + b[0] + c[0] + d[0]), 0.25 * (a[1] + b[1] + c[1] + d[1])])
+        }
         (Some(a), _, Some(c), _) => Some(mid(a, c)),
         (_, Some(b), _, Some(d)) => Some(mid(b, d)),
         _ => None,
@@ -82,7 +84,8 @@ pub fn initial_pose(m: &FrameMarks, g: &MarkGeometry) -> Option<Pose> {
     let (l13, l24) = (4.0 * (p[0] * p[0] + p[1] * p[1]), 4.0 * (q[0] * q[0] + q[1] * q[1]));
     let sin2_theta = ((l13 + l24) / d2 - 1.0).clamp(0.0, 1.0);
     let cos2_theta = 1.0 - sin2_theta;
-    let sin2_psi = if cos2_theta > 1e-9 { ((1.0 - l13 / d2) / cos2_theta).clamp(0.0, 1.0) } else { 0.5 };
+    let sin2_psi =
+        if cos2_theta > 1e-9 { ((1.0 - l13 / d2) / cos2_theta).clamp(0.0, 1.0) } else { 0.5 };
     let theta = sin2_theta.sqrt().asin();
     let psi0 = sin2_psi.sqrt().asin();
     let s = g.order.sign();
@@ -91,7 +94,8 @@ pub fn initial_pose(m: &FrameMarks, g: &MarkGeometry) -> Option<Pose> {
         let (sp, cp) = psi.sin_cos();
         let e1 = [cp * p[0] + s * sp * q[0], cp * p[1] + s * sp * q[1]];
         let pose = Pose { a, phi: e1[1].atan2(e1[0]), theta, psi };
-        let ss = residuals(m, g, &pose).iter().flatten().map(|r| r[0] * r[0] + r[1] * r[1]).sum::<f64>();
+        let ss =
+            residuals(m, g, &pose).iter().flatten().map(|r| r[0] * r[0] + r[1] * r[1]).sum::<f64>();
         if best.is_none_or(|(b, _)| ss < b) {
             best = Some((ss, pose));
         }
@@ -124,7 +128,13 @@ fn linearize(m: &FrameMarks, g: &MarkGeometry, x: &Vector5) -> (Matrix5, Vector5
         let d_s = [r * sa * sp, -r * sa * cp];
         let d_psi = [r * (sa * cp - ca * s * sp), r * (sa * sp + ca * s * cp)];
         for (i, ri) in res.iter().enumerate() {
-            let row = Vector5::new((i == 0) as u8 as f64, (i == 1) as u8 as f64, d_phi[i], d_s[i], d_psi[i]);
+            let row = Vector5::new(
+                (i == 0) as u8 as f64,
+                (i == 1) as u8 as f64,
+                d_phi[i],
+                d_s[i],
+                d_psi[i],
+            );
             jtj += row * row.transpose();
             jtr += row * *ri;
             ss += ri * ri;
@@ -202,11 +212,14 @@ mod tests {
     fn recovers_pose_from_four_and_three_marks() {
         for order in [MarkOrder::Forward, MarkOrder::Reverse] {
             let g = MarkGeometry { radius: 20.0, r_outer: 20.5, h: 18.0, order };
-            for (phi, theta, psi) in [(0.3, 0.6, 1.0), (-2.0, 1.2, -0.3), (2.5, 0.9, 2.8), (1.0, 1.5, -2.0)] {
+            for (phi, theta, psi) in
+                [(0.3, 0.6, 1.0), (-2.0, 1.2, -0.3), (2.5, 0.9, 2.8), (1.0, 1.5, -2.0)]
+            {
                 let truth = Pose { a: [10.0, -5.0], phi, theta, psi };
                 let exact = g.marks(truth.a, phi, theta, psi);
                 for missing in [None, Some(0), Some(1), Some(2), Some(3)] {
-                    let marks: FrameMarks = std::array::from_fn(|k| (Some(k) != missing).then_some(exact[k]));
+                    let marks: FrameMarks =
+                        std::array::from_fn(|k| (Some(k) != missing).then_some(exact[k]));
                     let start = initial_pose(&marks, &g).expect("start");
                     let fit = fit_pose(&marks, &g, start);
                     let p = fit.pose;
@@ -214,9 +227,19 @@ mod tests {
                     let d = |x: f64, y: f64| (x - y + PI).rem_euclid(2.0 * PI) - PI;
                     let flipped = d(p.phi, phi).abs() > FRAC_PI_2;
                     let shift = if flipped { PI } else { 0.0 };
-                    assert!(fit.residual_ss < 1e-16, "{order:?} {missing:?}: ss {}", fit.residual_ss);
-                    assert!((p.theta - theta).abs() < 1e-7, "{order:?} {missing:?}: theta {} vs {theta}", p.theta);
-                    assert!(d(p.phi, phi + shift).abs() < 1e-7 && d(p.psi, psi + shift).abs() < 1e-7);
+                    assert!(
+                        fit.residual_ss < 1e-16,
+                        "{order:?} {missing:?}: ss {}",
+                        fit.residual_ss
+                    );
+                    assert!(
+                        (p.theta - theta).abs() < 1e-7,
+                        "{order:?} {missing:?}: theta {} vs {theta}",
+                        p.theta
+                    );
+                    assert!(
+                        d(p.phi, phi + shift).abs() < 1e-7 && d(p.psi, psi + shift).abs() < 1e-7
+                    );
                     assert!((p.a[0] - 10.0).abs() < 1e-8 && (p.a[1] + 5.0).abs() < 1e-8);
                 }
             }

@@ -70,7 +70,9 @@ pub enum ReadErrorKind {
     FieldCount { found: usize },
     #[error("frame number '{value}' is not a whole number >= 0")]
     BadFrameNumber { value: String },
-    #[error("frames out of order: frame {found} follows frame {previous} (frames must be consecutive)")]
+    #[error(
+        "frames out of order: frame {found} follows frame {previous} (frames must be consecutive)"
+    )]
     FrameOutOfOrder { previous: u64, found: u64 },
     #[error("mark {mark} has {present} but not {missing} (a mark has both coordinates or neither)")]
     HalfMark { mark: usize, present: &'static str, missing: &'static str },
@@ -82,8 +84,11 @@ pub enum ReadErrorKind {
 
 /// Reads a recording from a file.
 pub fn read_recording(path: &Path) -> Result<Recording, ReadError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| ReadError { path: path.to_path_buf(), line: None, kind: ReadErrorKind::Io(e.to_string()) })?;
+    let bytes = std::fs::read(path).map_err(|e| ReadError {
+        path: path.to_path_buf(),
+        line: None,
+        kind: ReadErrorKind::Io(e.to_string()),
+    })?;
     parse_recording(&bytes, path)
 }
 
@@ -123,7 +128,8 @@ pub fn parse_recording(bytes: &[u8], path: &Path) -> Result<Recording, ReadError
                 return Err(err(Some(n), ReadErrorKind::EmptyKey { key: clip(body) }));
             }
             if let Some((_, _, first_line)) = keys.iter().find(|(key, _, _)| key == k) {
-                let kind = ReadErrorKind::DuplicateKey { key: k.to_string(), first_line: *first_line };
+                let kind =
+                    ReadErrorKind::DuplicateKey { key: k.to_string(), first_line: *first_line };
                 return Err(err(Some(n), kind));
             }
             keys.push((k.to_string(), v.to_string(), n));
@@ -151,7 +157,10 @@ pub fn parse_recording(bytes: &[u8], path: &Path) -> Result<Recording, ReadError
         let (number, marks) = parse_frame(line).map_err(|k| err(Some(n), k))?;
         if let Some(prev) = frames.len().checked_sub(1).map(|i| first_frame + i as u64) {
             if prev.checked_add(1) != Some(number) {
-                return Err(err(Some(n), ReadErrorKind::FrameOutOfOrder { previous: prev, found: number }));
+                return Err(err(
+                    Some(n),
+                    ReadErrorKind::FrameOutOfOrder { previous: prev, found: number },
+                ));
             }
         } else {
             first_frame = number;
@@ -210,10 +219,16 @@ fn parse_number(what: &str, value: &str) -> Result<f64, ReadErrorKind> {
 
 type HeaderError = (usize, ReadErrorKind);
 
-fn parse_header(keys: &[(String, String, usize)], columns_line: usize) -> Result<Header, HeaderError> {
+fn parse_header(
+    keys: &[(String, String, usize)],
+    columns_line: usize,
+) -> Result<Header, HeaderError> {
     let find = |key: &str| keys.iter().find(|(k, _, _)| k == key);
-    let required = |key: &'static str| find(key).ok_or((columns_line, ReadErrorKind::MissingKey { key }));
-    let positive = |key: &'static str, entry: &(String, String, usize)| -> Result<f64, HeaderError> {
+    let required =
+        |key: &'static str| find(key).ok_or((columns_line, ReadErrorKind::MissingKey { key }));
+    let positive = |key: &'static str,
+                    entry: &(String, String, usize)|
+     -> Result<f64, HeaderError> {
         let v = parse_number(key, &entry.1).map_err(|k| (entry.2, k))?;
         if v > 0.0 { Ok(v) } else { Err((entry.2, ReadErrorKind::NotPositive { key, value: v })) }
     };
@@ -226,19 +241,28 @@ fn parse_header(keys: &[(String, String, usize)], columns_line: usize) -> Result
     let outer_radius_mm = positive("outer_radius_mm", outer)?;
     let width_mm = positive("width_mm", required("width_mm")?)?;
     let thickness_mm = match (shape, find("thickness_mm")) {
-        (Shape::Ring, None) => return Err((columns_line, ReadErrorKind::MissingKey { key: "thickness_mm" })),
+        (Shape::Ring, None) => {
+            return Err((columns_line, ReadErrorKind::MissingKey { key: "thickness_mm" }));
+        }
         (_, Some(e)) => Some(positive("thickness_mm", e)?),
         (Shape::Disk, None) => None,
     };
-    let image_width_px = find("image_width_px").map(|e| positive("image_width_px", e)).transpose()?;
-    let image_height_px = find("image_height_px").map(|e| positive("image_height_px", e)).transpose()?;
-    let camera_distance_mm = find("camera_distance_mm").map(|e| positive("camera_distance_mm", e)).transpose()?;
+    let image_width_px =
+        find("image_width_px").map(|e| positive("image_width_px", e)).transpose()?;
+    let image_height_px =
+        find("image_height_px").map(|e| positive("image_height_px", e)).transpose()?;
+    let camera_distance_mm =
+        find("camera_distance_mm").map(|e| positive("camera_distance_mm", e)).transpose()?;
     let camera_tilt_deg = find("camera_tilt_deg")
         .map(|e| {
             const KEY: &str = "camera_tilt_deg";
             let v = parse_number(KEY, &e.1).map_err(|k| (e.2, k))?;
             let (lo, hi) = (-MAX_TILT_DEG, MAX_TILT_DEG);
-            if v > lo && v < hi { Ok(v) } else { Err((e.2, ReadErrorKind::OutOfRange { key: KEY, value: v, lo, hi })) }
+            if v > lo && v < hi {
+                Ok(v)
+            } else {
+                Err((e.2, ReadErrorKind::OutOfRange { key: KEY, value: v, lo, hi }))
+            }
         })
         .transpose()?;
     const KNOWN: [&str; 10] = [
@@ -253,7 +277,11 @@ fn parse_header(keys: &[(String, String, usize)], columns_line: usize) -> Result
         "camera_distance_mm",
         "camera_tilt_deg",
     ];
-    let extra = keys.iter().filter(|(k, _, _)| !KNOWN.contains(&k.as_str())).map(|(k, v, _)| (k.clone(), v.clone())).collect();
+    let extra = keys
+        .iter()
+        .filter(|(k, _, _)| !KNOWN.contains(&k.as_str()))
+        .map(|(k, v, _)| (k.clone(), v.clone()))
+        .collect();
     let header = Header {
         fps,
         px_per_mm,
@@ -296,8 +324,20 @@ fn parse_frame(line: &str) -> Result<(u64, FrameMarks), ReadErrorKind> {
         let (x, y) = (fields[1 + 2 * k], fields[2 + 2 * k]);
         marks[k] = match (x.is_empty(), y.is_empty()) {
             (true, true) => None,
-            (false, true) => return Err(ReadErrorKind::HalfMark { mark: k + 1, present: names[0], missing: names[1] }),
-            (true, false) => return Err(ReadErrorKind::HalfMark { mark: k + 1, present: names[1], missing: names[0] }),
+            (false, true) => {
+                return Err(ReadErrorKind::HalfMark {
+                    mark: k + 1,
+                    present: names[0],
+                    missing: names[1],
+                });
+            }
+            (true, false) => {
+                return Err(ReadErrorKind::HalfMark {
+                    mark: k + 1,
+                    present: names[1],
+                    missing: names[0],
+                });
+            }
             (false, false) => Some([parse_number(names[0], x)?, parse_number(names[1], y)?]),
         };
     }

@@ -29,8 +29,8 @@ use super::smooth::{Extremum, extrema, local_quadratic, smooth};
 use super::{FrameMarks, Recording};
 use crate::physics::model::STATE_LEN;
 use crate::physics::{Body, Conversion, ParamError, TurnKind, Units, paper};
-use std::f64::consts::PI;
 use rayon::prelude::*;
+use std::f64::consts::PI;
 use thiserror::Error;
 
 /// Half width (frames) of the local quadratic fits for rates and turning points.
@@ -122,15 +122,19 @@ pub fn recover(rec: &Recording) -> Result<RecoveredMotion, RecoverError> {
 pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, RecoverError> {
     let body_mm = rec.header.body_mm().map_err(RecoverError::Body)?;
     let fps = rec.header.fps;
-    let marks_mm: Vec<FrameMarks> = rec.frames.iter().map(|f| f.map(|m| m.map(|p| camera.to_mm(p)))).collect();
+    let marks_mm: Vec<FrameMarks> =
+        rec.frames.iter().map(|f| f.map(|m| m.map(|p| camera.to_mm(p)))).collect();
     let mark_order = mark_order(&marks_mm);
     let geometry_mm = MarkGeometry::of_body(&body_mm, mark_order);
-    let fits: Vec<Option<PoseFit>> =
-        marks_mm.par_iter().map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s))).collect();
+    let fits: Vec<Option<PoseFit>> = marks_mm
+        .par_iter()
+        .map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s)))
+        .collect();
     if fits.iter().all(Option::is_none) {
         return Err(RecoverError::NoPose);
     }
-    let (ss, dof) = fits.iter().flatten().fold((0.0, 0usize), |(s, d), f| (s + f.residual_ss, d + f.dof()));
+    let (ss, dof) =
+        fits.iter().flatten().fold((0.0, 0usize), |(s, d), f| (s + f.residual_ss, d + f.dof()));
     let sigma_mm = (dof > 0).then(|| (ss / dof as f64).sqrt());
     let sigma = sigma_mm.unwrap_or(f64::NAN);
 
@@ -139,14 +143,23 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
         .zip(&fits)
         .enumerate()
         .map(|(i, (m, fit))| {
-            let pairs = (m[0].is_some() && m[2].is_some()) as usize + (m[1].is_some() && m[3].is_some()) as usize;
+            let pairs = (m[0].is_some() && m[2].is_some()) as usize
+                + (m[1].is_some() && m[3].is_some()) as usize;
             let angles_sigma = fit.map_or([f64::INFINITY; 3], |f| f.angle_sigmas(sigma));
             FrameMotion {
                 t_s: rec.time_s(i),
                 marks: m.iter().flatten().count(),
                 a_mm: fit.map(|f| f.pose.a).or_else(|| point_a(m)),
-                a_sigma_mm: if pairs > 0 { sigma / (2.0 * pairs as f64).sqrt() } else { f64::INFINITY },
-                angles: fit.map(|f| Angles { phi: f.pose.phi, theta: f.pose.theta, psi: f.pose.psi }),
+                a_sigma_mm: if pairs > 0 {
+                    sigma / (2.0 * pairs as f64).sqrt()
+                } else {
+                    f64::INFINITY
+                },
+                angles: fit.map(|f| Angles {
+                    phi: f.pose.phi,
+                    theta: f.pose.theta,
+                    psi: f.pose.psi,
+                }),
                 angles_sigma,
                 branch_checked: false,
                 stretch: None,
@@ -170,18 +183,20 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
         theta: e.value,
         theta_sigma: e.sigma,
     };
-    let turning_points: Vec<DataTurningPoint> = extrema(&smoothed, 3.0).iter().map(to_point).collect();
-    let first_inner_turn = first_inner_turn(&theta, &theta_sigma, &turning_points).map(|at| match at {
-        Some(p) => p,
-        None => DataTurningPoint {
-            kind: TurnKind::ThetaMin,
-            at: 0.0,
-            at_sigma: 0.5,
-            t_s: rec.time_s(0),
-            theta: smoothed.value[0],
-            theta_sigma: smoothed.value_sigma[0],
-        },
-    });
+    let turning_points: Vec<DataTurningPoint> =
+        extrema(&smoothed, 3.0).iter().map(to_point).collect();
+    let first_inner_turn =
+        first_inner_turn(&theta, &theta_sigma, &turning_points).map(|at| match at {
+            Some(p) => p,
+            None => DataTurningPoint {
+                kind: TurnKind::ThetaMin,
+                at: 0.0,
+                at_sigma: 0.5,
+                t_s: rec.time_s(0),
+                theta: smoothed.value[0],
+                theta_sigma: smoothed.value_sigma[0],
+            },
+        });
     let rest_from = sigma_mm.and_then(|s| rest_from(&marks_mm, s));
     let spin_sign = spin_sign(&frames, fps);
     let units = Units::dimensionless(body_mm.mean_radius(), paper::g());
@@ -208,10 +223,17 @@ pub const START_VERTEX_FRAMES: f64 = 1.5;
 /// The first inner turning point: `Some(None)` when it is the first frame, that is, `theta`
 /// rises to a maximum first and the vertex of a quadratic through the first five frames lies
 /// at most [`START_VERTEX_FRAMES`] before it; else the first minimum found.
-fn first_inner_turn(theta: &[f64], sigma: &[f64], points: &[DataTurningPoint]) -> Option<Option<DataTurningPoint>> {
+fn first_inner_turn(
+    theta: &[f64],
+    sigma: &[f64],
+    points: &[DataTurningPoint],
+) -> Option<Option<DataTurningPoint>> {
     let first_min = points.iter().find(|p| p.kind == TurnKind::ThetaMin).copied();
     if points.first().is_some_and(|p| p.kind == TurnKind::ThetaMax) {
-        let w: Vec<f64> = sigma.iter().map(|s| if s.is_finite() && *s > 0.0 { 1.0 / (s * s) } else { 0.0 }).collect();
+        let w: Vec<f64> = sigma
+            .iter()
+            .map(|s| if s.is_finite() && *s > 0.0 { 1.0 / (s * s) } else { 0.0 })
+            .collect();
         if let Some(([_, slope, half_curv], _)) = local_quadratic(theta, &w, 0, 4, 0.0) {
             let vertex = -slope / (2.0 * half_curv);
             if half_curv > 0.0 && vertex >= -START_VERTEX_FRAMES {
@@ -229,7 +251,8 @@ fn mark_order(marks: &[FrameMarks]) -> MarkOrder {
     for m in marks {
         if let [Some(a), Some(b), Some(c), Some(d)] = m {
             let p = [a, b, c, d];
-            let area: f64 = (0..4).map(|k| p[k][0] * p[(k + 1) % 4][1] - p[(k + 1) % 4][0] * p[k][1]).sum();
+            let area: f64 =
+                (0..4).map(|k| p[k][0] * p[(k + 1) % 4][1] - p[(k + 1) % 4][0] * p[k][1]).sum();
             votes += if area < 0.0 { 1 } else { -1 };
         }
     }
@@ -241,13 +264,19 @@ fn velocities(frames: &mut [FrameMotion], fps: f64) {
     let n = frames.len();
     for i in 0..n {
         let a = |j: usize| frames[j].a_mm.map(|p| (p, frames[j].a_sigma_mm));
-        let (lo, hi) = match (i.checked_sub(1).and_then(a), (i + 1 < n).then(|| a(i + 1)).flatten(), a(i)) {
-            (Some(p), Some(q), _) => (p, q),
-            (Some(p), None, Some(c)) => (p, c),
-            (None, Some(q), Some(c)) => (c, q),
-            _ => continue,
-        };
-        let span = if i > 0 && i + 1 < n && frames[i - 1].a_mm.is_some() && frames[i + 1].a_mm.is_some() { 2.0 } else { 1.0 };
+        let (lo, hi) =
+            match (i.checked_sub(1).and_then(a), (i + 1 < n).then(|| a(i + 1)).flatten(), a(i)) {
+                (Some(p), Some(q), _) => (p, q),
+                (Some(p), None, Some(c)) => (p, c),
+                (None, Some(q), Some(c)) => (c, q),
+                _ => continue,
+            };
+        let span =
+            if i > 0 && i + 1 < n && frames[i - 1].a_mm.is_some() && frames[i + 1].a_mm.is_some() {
+                2.0
+            } else {
+                1.0
+            };
         let dt = span / fps;
         let v = [(hi.0[0] - lo.0[0]) / dt, (hi.0[1] - lo.0[1]) / dt];
         frames[i].v_mm_s = Some(v);
@@ -320,12 +349,17 @@ fn resolve_branches(frames: &mut [FrameMotion], body: &Body, fps: f64) {
 fn rolling_agreement(frames: &[FrameMotion], body: &Body, fps: f64) -> f64 {
     let mut score = 0.0;
     for i in 1..frames.len() - 1 {
-        let (Some(p), Some(c), Some(q), Some(v)) = (frames[i - 1].angles, frames[i].angles, frames[i + 1].angles, frames[i].v_mm_s)
+        let (Some(p), Some(c), Some(q), Some(v)) =
+            (frames[i - 1].angles, frames[i].angles, frames[i + 1].angles, frames[i].v_mm_s)
         else {
             continue;
         };
         let rate = |a: f64, b: f64| (b - a) * fps / 2.0;
-        let v_pred = rolling_velocity_of_a(body, &c, [rate(p.theta, q.theta), rate(p.phi, q.phi), rate(p.psi, q.psi)]);
+        let v_pred = rolling_velocity_of_a(
+            body,
+            &c,
+            [rate(p.theta, q.theta), rate(p.phi, q.phi), rate(p.psi, q.psi)],
+        );
         score += v_pred[0] * v[0] + v_pred[1] * v[1];
     }
     score
@@ -368,7 +402,11 @@ fn rest_from(marks: &[FrameMarks], sigma_mm: f64) -> Option<usize> {
         }
     }
     let still = |m: &FrameMarks| {
-        (0..4).all(|k| m[k].is_none_or(|p| count[k] > 0 && (p[0] - mean[k][0]).hypot(p[1] - mean[k][1]) < 5.0 * sigma_mm))
+        (0..4).all(|k| {
+            m[k].is_none_or(|p| {
+                count[k] > 0 && (p[0] - mean[k][0]).hypot(p[1] - mean[k][1]) < 5.0 * sigma_mm
+            })
+        })
     };
     if !marks[n - TAIL..].iter().all(still) {
         return None;
@@ -385,8 +423,15 @@ fn spin_sign(frames: &[FrameMotion], fps: f64) -> f64 {
     let mut sum = 0.0;
     let mut used = 0;
     for i in 1..frames.len().saturating_sub(1) {
-        let (Some(p), Some(c), Some(q)) = (frames[i - 1].angles, frames[i].angles, frames[i + 1].angles) else { continue };
-        if !(frames[i - 1].branch_checked && frames[i].branch_checked && frames[i + 1].branch_checked) {
+        let (Some(p), Some(c), Some(q)) =
+            (frames[i - 1].angles, frames[i].angles, frames[i + 1].angles)
+        else {
+            continue;
+        };
+        if !(frames[i - 1].branch_checked
+            && frames[i].branch_checked
+            && frames[i + 1].branch_checked)
+        {
             continue;
         }
         sum += (q.phi - p.phi) * fps / 2.0 + (q.psi - p.psi) * fps / 2.0 * c.theta.sin();
@@ -458,7 +503,16 @@ impl RecoveredMotion {
         let phi_dot = (v[0] * cp + v[1] * sp) / lever * k.rate();
         let half_h = 0.5 * b.h;
         let c = [p[0] + half_h * ct * sp, p[1] - half_h * ct * cp];
-        Some([a.phi, a.theta, a.psi, 0.0, phi_dot * st, phi_dot * ct, c[0] * k.length, c[1] * k.length])
+        Some([
+            a.phi,
+            a.theta,
+            a.psi,
+            0.0,
+            phi_dot * st,
+            phi_dot * ct,
+            c[0] * k.length,
+            c[1] * k.length,
+        ])
     }
 
     /// The model's state `[phi, theta, psi, w1, w2, w3, x_C, y_C]` at frame `i` in model

@@ -7,7 +7,13 @@ use crate::physics::TurnKind;
 /// `x = i - at`, through the finite points of `y` with weights `w` in `lo..=hi` (value, slope
 /// per frame and half the curvature at `at`), with the standard deviations of `c0` and `c1`
 /// that the weights (as inverse variances) imply. None with fewer than four points.
-pub fn local_quadratic(y: &[f64], w: &[f64], lo: usize, hi: usize, at: f64) -> Option<([f64; 3], [f64; 2])> {
+pub fn local_quadratic(
+    y: &[f64],
+    w: &[f64],
+    lo: usize,
+    hi: usize,
+    at: f64,
+) -> Option<([f64; 3], [f64; 2])> {
     // Normal equations in x = i - at: basis (1, x, x^2).
     let mut m = nalgebra::Matrix3::<f64>::zeros();
     let mut b = nalgebra::Vector3::<f64>::zeros();
@@ -46,7 +52,8 @@ pub struct Smoothed {
 
 pub fn smooth(y: &[f64], sigma: &[f64], half: usize) -> Smoothed {
     let n = y.len();
-    let w: Vec<f64> = sigma.iter().map(|s| if s.is_finite() && *s > 0.0 { 1.0 / (s * s) } else { 0.0 }).collect();
+    let w: Vec<f64> =
+        sigma.iter().map(|s| if s.is_finite() && *s > 0.0 { 1.0 / (s * s) } else { 0.0 }).collect();
     let mut out = Smoothed {
         value: vec![f64::NAN; n],
         slope: vec![f64::NAN; n],
@@ -92,7 +99,13 @@ pub fn extrema(s: &Smoothed, k_sigma: f64) -> Vec<Extremum> {
         let j = if f < 0.5 { i - 1 } else { i };
         let value = s.value[i - 1] + f * (s.value[i] - s.value[i - 1]);
         let at_sigma = s.slope_sigma[j] / (d0 - d1).abs();
-        out.push(Extremum { kind, at: (i - 1) as f64 + f, at_sigma, value, sigma: s.value_sigma[j] });
+        out.push(Extremum {
+            kind,
+            at: (i - 1) as f64 + f,
+            at_sigma,
+            value,
+            sigma: s.value_sigma[j],
+        });
     }
     prune(out, k_sigma)
 }

@@ -103,29 +103,46 @@ pub struct Synthesized {
 impl SynthOptions {
     pub fn validate(&self) -> Result<(), SynthError> {
         let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 { Ok(()) } else { Err(SynthError::Option(format!("{name} = {v} must be a positive number"))) }
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(SynthError::Option(format!("{name} = {v} must be a positive number")))
+            }
         };
         positive("fps", self.fps)?;
         positive("px_per_mm", self.px_per_mm)?;
         positive("image width", self.image_width_px)?;
         positive("image height", self.image_height_px)?;
         if !(self.noise_px.is_finite() && self.noise_px >= 0.0) {
-            return Err(SynthError::Option(format!("noise_px = {} must be a number >= 0", self.noise_px)));
+            return Err(SynthError::Option(format!(
+                "noise_px = {} must be a number >= 0",
+                self.noise_px
+            )));
         }
         if !self.lens_k1.is_finite() || self.lens_k1.abs() > 0.5 {
-            return Err(SynthError::Option(format!("lens k1 = {} must lie in [-0.5, 0.5]", self.lens_k1)));
+            return Err(SynthError::Option(format!(
+                "lens k1 = {} must lie in [-0.5, 0.5]",
+                self.lens_k1
+            )));
         }
         if let Some(d) = self.camera_distance_mm
             && !(d.is_finite() && d > 0.0)
         {
-            return Err(SynthError::Option(format!("camera distance = {d} mm must be a positive number")));
+            return Err(SynthError::Option(format!(
+                "camera distance = {d} mm must be a positive number"
+            )));
         }
         if !(self.camera_tilt_deg.abs() < MAX_TILT_DEG) {
             let t = self.camera_tilt_deg;
-            return Err(SynthError::Option(format!("camera tilt = {t} degrees must lie between -{MAX_TILT_DEG} and {MAX_TILT_DEG}")));
+            return Err(SynthError::Option(format!(
+                "camera tilt = {t} degrees must lie between -{MAX_TILT_DEG} and {MAX_TILT_DEG}"
+            )));
         }
         if !(0.0..1.0).contains(&self.missing_fraction) {
-            return Err(SynthError::Option(format!("missing fraction = {} must lie in [0, 1)", self.missing_fraction)));
+            return Err(SynthError::Option(format!(
+                "missing fraction = {} must lie in [0, 1)",
+                self.missing_fraction
+            )));
         }
         if let Some((EffectKind::CameraDistortion, _)) = self.effect
             && self.lens_k1 != 0.0
@@ -175,7 +192,8 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
     let mut model = case.model.clone();
     if let Some((kind, strength)) = opts.effect {
         let start = Sample::new(&model, 0.0, &case.initial.to_state());
-        effects::apply(kind, strength, model.body.r, start.reynolds, &mut model.effects).map_err(SynthError::Effect)?;
+        effects::apply(kind, strength, model.body.r, start.reynolds, &mut model.effects)
+            .map_err(SynthError::Effect)?;
     }
     let dt = 1.0 / opts.fps / time_s;
     let run_opts = crate::physics::RunOptions { sample_dt: Some(dt), ..case.opts.clone() };
@@ -201,7 +219,9 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
             geometry.marks(a, s.phi(), s.theta(), s.psi()).map(|m| camera.to_px(m[0], m[1]))
         };
         if pixels.iter().flatten().any(|v| !v.is_finite()) {
-            return Err(SynthError::Camera(format!("at frame {n} a mark is at or behind the camera's centre plane")));
+            return Err(SynthError::Camera(format!(
+                "at frame {n} a mark is at or behind the camera's centre plane"
+            )));
         }
         let mut out: FrameMarks = [None; MARKS];
         for (slot, p) in out.iter_mut().zip(pixels) {
@@ -216,7 +236,8 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
     let b = &model.body;
     // Lengths to the nanometre: the unit conversion's last bits are not information.
     let mm = |v: f64| (v * length_mm * 1e6).round() / 1e6;
-    let mut extra = vec![("generator".to_string(), format!("ringlab {} synth", env!("CARGO_PKG_VERSION")))];
+    let mut extra =
+        vec![("generator".to_string(), format!("ringlab {} synth", env!("CARGO_PKG_VERSION")))];
     extra.push(("case".to_string(), case.name.clone()));
     extra.push(("seed".to_string(), opts.seed.to_string()));
     let header = Header {

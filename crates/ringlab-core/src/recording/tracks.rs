@@ -2,9 +2,9 @@
 //! the tracker's glitches ([`glitches`]), and the recording with the glitches left out, which
 //! is what every fit works on.
 
+use super::Recording;
 use super::glitches::{Glitch, find_glitches, without_glitches};
 use super::noise::{NoiseEstimate, track_noise};
-use super::Recording;
 
 /// A recording with its glitches left out, the glitches, and the noise of what is left.
 #[derive(Clone, Debug)]
@@ -29,5 +29,9 @@ pub fn check_tracks(rec: &Recording) -> CheckedTracks {
 
 /// The recording as it is, with the noise of its tracks (no glitch search).
 pub fn as_tracked(rec: &Recording) -> CheckedTracks {
-    CheckedTracks { recording: rec.clone(), glitches: Vec::new(), noise: track_noise(&rec.frames, &|_, _| false) }
+    CheckedTracks {
+        recording: rec.clone(),
+        glitches: Vec::new(),
+        noise: track_noise(&rec.frames, &|_, _| false),
+    }
 }

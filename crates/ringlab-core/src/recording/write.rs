@@ -1,7 +1,7 @@
 //! The writer of format v1 (the inverse of [`super::read`]).
 
-use super::read::{COLUMNS, MAGIC};
 use super::Recording;
+use super::read::{COLUMNS, MAGIC};
 use std::io::{self, Write};
 
 /// Decimals written for pixel coordinates (a hundredth of a pixel, as in the sample).

@@ -23,9 +23,11 @@ pub struct Reference {
 
 impl Reference {
     pub fn load() -> Reference {
-        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable reference");
+        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv"))
+            .expect("readable reference");
         let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-        let columns: Vec<String> = lines.next().expect("header").split(',').map(|s| s.trim().to_string()).collect();
+        let columns: Vec<String> =
+            lines.next().expect("header").split(',').map(|s| s.trim().to_string()).collect();
         let rows = lines
             .filter(|l| !l.trim().is_empty())
             .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().expect("number")).collect())
@@ -34,13 +36,18 @@ impl Reference {
     }
 
     pub fn col(&self, name: &str) -> Vec<f64> {
-        let i = self.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
+        let i = self
+            .columns
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("no column {name}"));
         self.rows.iter().map(|r| r[i]).collect()
     }
 
     /// The end time stated in the file's second comment line.
     pub fn end_time(&self) -> f64 {
-        let text = std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable");
+        let text =
+            std::fs::read_to_string(test_data("paper-ring-reference.csv")).expect("readable");
         let line = text.lines().find(|l| l.contains("run ends")).expect("end line");
         line.rsplit("t=").next().expect("t=").trim().parse().expect("end time")
     }

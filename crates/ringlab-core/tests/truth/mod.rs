@@ -21,11 +21,13 @@ fn num(v: &Value, key: &str) -> f64 {
 
 pub fn load() -> Truth {
     let path = super::common::test_data("sample-ring.truth.json");
-    let json: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("truth readable")).expect("truth is JSON");
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("truth readable"))
+        .expect("truth is JSON");
     let g = 1.025 * 4.5 * 4.5 / 20.2;
     let units = Units::dimensionless(20.16, g);
     assert!((units.time_s - num(&json, "T0_s")).abs() < 1e-12);
-    let body = Body::new(Shape::Ring, num(&json, "R"), num(&json, "h"), num(&json, "w")).expect("body");
+    let body =
+        Body::new(Shape::Ring, num(&json, "R"), num(&json, "h"), num(&json, "w")).expect("body");
     let c = json["C"].as_array().expect("C");
     let c = [0, 1, 2].map(|i| c[i].as_f64().expect("C_i"));
     let model = Model::new(body, g, c, units.nu_air()).expect("model");
@@ -40,7 +42,12 @@ pub fn load() -> Truth {
         y_c: 0.0,
     };
     let dt = 1.0 / 300.0 / units.time_s;
-    let (summary, mut frames) = simulate(model.clone(), &initial, RunOptions { sample_dt: Some(dt), ..RunOptions::default() }).expect("runs");
+    let (summary, mut frames) = simulate(
+        model.clone(),
+        &initial,
+        RunOptions { sample_dt: Some(dt), ..RunOptions::default() },
+    )
+    .expect("runs");
     assert!((summary.t_end - num(&json, "t_end_model")).abs() < 1e-4, "t_end {}", summary.t_end);
     let n = num(&json, "frames") as usize;
     frames.truncate((summary.t_end / dt).floor() as usize);

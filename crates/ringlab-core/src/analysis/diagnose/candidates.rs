@@ -13,11 +13,14 @@
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
 //! baseline is refitted from the baseline's solution.
 
-use super::whole::{LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect, with_effects};
+use super::whole::{
+    LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect,
+    with_effects,
+};
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
-use crate::physics::effects::EffectKind;
 use crate::physics::StateVec;
+use crate::physics::effects::EffectKind;
 use crate::physics::slip::painleve_mu_limit;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -30,14 +33,18 @@ use std::sync::atomic::AtomicBool;
 /// effect, so at them no effect always looks best.
 pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
     let (lo, hi) = kind.realistic_range();
-    let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> { (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect() };
+    let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> {
+        (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect()
+    };
     match kind {
         EffectKind::None => vec![0.0],
         EffectKind::CameraDistortion => {
             let mags = spaced(0.5 * hi.abs(), 2.0 * lo.abs(), 9);
             mags.iter().map(|m| -m).chain(mags.iter().copied()).collect()
         }
-        EffectKind::Slip => spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect(),
+        EffectKind::Slip => {
+            spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect()
+        }
         _ => spaced(0.5 * lo, 2.0 * hi, 9),
     }
 }
@@ -104,16 +111,31 @@ pub fn fit_candidate(
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
     let join = levels.first().ok_or(LmError::BadStart)?;
-    let ceiling = |segments: usize| levels.iter().find(|l| l.segments.len() == segments).map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost);
+    let ceiling = |segments: usize| {
+        levels
+            .iter()
+            .find(|l| l.segments.len() == segments)
+            .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
+    };
     let mu_max = mu_limit(ms);
     let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = join.segments.clone();
     let trials = trial_strengths(kind, mu_max);
-    let globals: Vec<Vec<f64>> = trials.iter().map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect()).collect();
+    let globals: Vec<Vec<f64>> = trials
+        .iter()
+        .map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect())
+        .collect();
     let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
-    let best = (0..trials.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
+    let best = (0..trials.len())
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .ok_or(LmError::BadStart)?;
     let segments = sh.segments.len();
-    let opts = LmOptions { max_iterations: LEVEL_ITERATIONS, rel_tol: 1e-4, covariance: false, ..LmOptions::default() };
+    let opts = LmOptions {
+        max_iterations: LEVEL_ITERATIONS,
+        rel_tol: 1e-4,
+        covariance: false,
+        ..LmOptions::default()
+    };
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
     let mut starts = vec![globals[best].clone()];
     if let Some(mid) = blind_start(kind, mu_max).filter(|&m| m != trials[best]) {
@@ -121,7 +143,14 @@ pub fn fit_candidate(
     }
     let mut first: Option<lm::LmSolution> = None;
     for g in starts {
-        let sol = lm::solve(&sh, g, locals.clone(), &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
+        let sol = lm::solve(
+            &sh,
+            g,
+            locals.clone(),
+            &opts,
+            &mut |_, c| on_iteration(segments, c),
+            cancel,
+        )?;
         if first.as_ref().is_none_or(|f| sol.cost < f.cost) {
             first = Some(sol);
         }
@@ -134,7 +163,12 @@ pub fn fit_candidate(
             sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
         }
         let step = if segments > 1 { 2 } else { 1 };
-        let states: Vec<StateVec> = first.local.iter().step_by(step).map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+        let states: Vec<StateVec> = first
+            .local
+            .iter()
+            .step_by(step)
+            .map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8]))
+            .collect();
         fit_path(&sh, first.global, &states, &ceiling, on_iteration, cancel)?.0
     };
     fit.seconds = clock.elapsed().as_secs_f64();
@@ -155,10 +189,17 @@ fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
 
 /// `kind` over the whole run as one segment at `from`'s drag and start state (at `strength`,
 /// for a candidate): the problem and its globals.
-fn single_segment<'a>(ms: &Shooting<'a>, kind: EffectKind, from: &WholeFit, strength: f64) -> (Shooting<'a>, Vec<f64>) {
+fn single_segment<'a>(
+    ms: &Shooting<'a>,
+    kind: EffectKind,
+    from: &WholeFit,
+    strength: f64,
+) -> (Shooting<'a>, Vec<f64>) {
     let mut sh = with_budget(with_effect(ms, kind));
     sh.segments = vec![from.span.clone()];
-    let own = from.internal.len() - from.kind.free_count() - from.also.iter().map(|(k, _)| k.free_count()).sum::<usize>();
+    let own = from.internal.len()
+        - from.kind.free_count()
+        - from.also.iter().map(|(k, _)| k.free_count()).sum::<usize>();
     let mut g = from.internal[..own].to_vec();
     g.extend(effect_start(kind, strength));
     (sh, g)
@@ -166,7 +207,13 @@ fn single_segment<'a>(ms: &Shooting<'a>, kind: EffectKind, from: &WholeFit, stre
 
 /// Refits `kind` over the whole run as one segment from `from`'s drag and start state (at
 /// `strength`, for a candidate): the safeguards of the module doc.
-pub fn refit_from(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
+pub fn refit_from(
+    ms: &Shooting,
+    kind: EffectKind,
+    from: &WholeFit,
+    strength: f64,
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
     let (sh, g) = single_segment(ms, kind, from, strength);
     fit_whole(&sh, g, &[from.start], &mut |_, _| {}, cancel)
 }
@@ -202,12 +249,20 @@ pub fn fit_candidates(
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
     // The slowest first (sliding runs cost most), so that it does not finish alone.
-    let mut order: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    let mut order: Vec<EffectKind> =
+        kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
     order.sort_by_key(|&k| k != EffectKind::Slip);
     let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
         .map(|&k| {
-            let r = fit_candidate(ms, levels, &baseline, k, &mut |segments, cost| progress(k, segments, cost), cancel);
+            let r = fit_candidate(
+                ms,
+                levels,
+                &baseline,
+                k,
+                &mut |segments, cost| progress(k, segments, cost),
+                cancel,
+            );
             done(k);
             (k, r)
         })
@@ -217,7 +272,10 @@ pub fn fit_candidates(
     }
     // The baseline from the best candidate's drag and start.
     let mut baseline = baseline;
-    let best = candidates.iter().filter_map(|(_, r)| r.as_ref().ok()).min_by(|a, b| a.cost.total_cmp(&b.cost));
+    let best = candidates
+        .iter()
+        .filter_map(|(_, r)| r.as_ref().ok())
+        .min_by(|a, b| a.cost.total_cmp(&b.cost));
     if let Some(best) = best
         && best.cost < baseline.cost
     {
@@ -257,7 +315,6 @@ pub fn fit_candidates(
     Ok((baseline, candidates))
 }
 
-
 /// A pair of the forward selection: `first` (fitted alone as `first_fit`) and `second` (fitted
 /// alone as `second_fit`) together, on the baseline's path like a single candidate (see
 /// [`fit_candidate`]): from the baseline's first stage, with `first` at its own fitted strength
@@ -274,7 +331,12 @@ pub fn fit_pair(
     let clock = std::time::Instant::now();
     let (first, second) = (first_fit.kind, second_fit.kind);
     let join = levels.first().ok_or(LmError::BadStart)?;
-    let ceiling = |segments: usize| levels.iter().find(|l| l.segments.len() == segments).map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost);
+    let ceiling = |segments: usize| {
+        levels
+            .iter()
+            .find(|l| l.segments.len() == segments)
+            .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
+    };
     let mu_max = mu_limit(ms);
     let mut sh = with_budget(with_effects(ms, &[first, second]));
     sh.segments = join.segments.clone();
@@ -282,10 +344,16 @@ pub fn fit_pair(
     let lead = own(first_fit);
     let mut trials: Vec<Vec<f64>> = vec![own(second_fit)];
     trials.extend(trial_strengths(second, mu_max).into_iter().map(|s| effect_start(second, s)));
-    let globals: Vec<Vec<f64>> = trials.iter().map(|t| join.global.iter().chain(&lead).chain(t).copied().collect()).collect();
+    let globals: Vec<Vec<f64>> = trials
+        .iter()
+        .map(|t| join.global.iter().chain(&lead).chain(t).copied().collect())
+        .collect();
     let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
-    let best = (0..globals.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).ok_or(LmError::BadStart)?;
-    let mut fit = fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration, cancel)?.0;
+    let best = (0..globals.len())
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .ok_or(LmError::BadStart)?;
+    let mut fit =
+        fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration, cancel)?.0;
     fit.seconds = clock.elapsed().as_secs_f64();
     Ok(fit)
 }

@@ -6,9 +6,9 @@
 use crate::config::{Case, load_preset};
 use crate::physics::effects::EffectKind;
 use crate::physics::{Initial, paper};
+use crate::recording::Recording;
 use crate::recording::rng::Rng;
 use crate::recording::synth::{SynthError, SynthOptions, synthesize};
-use crate::recording::Recording;
 use std::f64::consts::PI;
 
 /// What was concealed in a recording.
@@ -35,7 +35,10 @@ fn log_uniform(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
 /// turning point with `theta0` in [0.45, 0.65] rad, `|phi'0|` in [4, 5] of either sign,
 /// `psi'0` in [-0.1, 0.1], any heading; each `C_i` the paper's within a factor 1.3; the
 /// strength log-uniform over the effect's realistic range.
-pub fn concealed_case(effect: EffectKind, seed: u64) -> Result<(Case, SynthOptions, Concealed), String> {
+pub fn concealed_case(
+    effect: EffectKind,
+    seed: u64,
+) -> Result<(Case, SynthOptions, Concealed), String> {
     let mut rng = Rng::new(seed.wrapping_mul(0x9e37_79b9).wrapping_add(effect as u64));
     let file = load_preset("paper-ring").map_err(|e| e.to_string())?;
     let mut case = file.build()?;
@@ -64,7 +67,10 @@ pub fn concealed_case(effect: EffectKind, seed: u64) -> Result<(Case, SynthOptio
 }
 
 /// Recording `seed` with `effect` concealed (see [`concealed_case`]).
-pub fn concealed_recording(effect: EffectKind, seed: u64) -> Result<(Recording, Concealed), String> {
+pub fn concealed_recording(
+    effect: EffectKind,
+    seed: u64,
+) -> Result<(Recording, Concealed), String> {
     let (case, opts, truth) = concealed_case(effect, seed)?;
     let s = synthesize(&case, &opts).map_err(|e: SynthError| e.to_string())?;
     let mut rec = s.recording;
@@ -98,7 +104,9 @@ impl Family {
             Family::Glitches(k) => format!("glitches:{k}"),
             Family::Pair(a, b) => format!("pair:{a}+{b}"),
             Family::Withheld(k) => format!("withheld:{k}"),
-            Family::CameraKnown { tilted } => format!("camera-known:{}", if *tilted { "tilted" } else { "pinhole" }),
+            Family::CameraKnown { tilted } => {
+                format!("camera-known:{}", if *tilted { "tilted" } else { "pinhole" })
+            }
         }
     }
 
@@ -112,7 +120,11 @@ impl Family {
             "pair" => {
                 let (a, b) = rest.split_once('+')?;
                 let (a, b) = (effect(a)?, effect(b)?);
-                (a != b && a != EffectKind::None && b != EffectKind::None && !(a.is_camera() && b.is_camera())).then_some(Family::Pair(a, b))
+                (a != b
+                    && a != EffectKind::None
+                    && b != EffectKind::None
+                    && !(a.is_camera() && b.is_camera()))
+                .then_some(Family::Pair(a, b))
             }
             "camera-known" => match rest {
                 "pinhole" => Some(Family::CameraKnown { tilted: false }),
@@ -136,7 +148,12 @@ impl Family {
         let mut v: Vec<Family> = EffectKind::ALL.iter().map(|&k| Family::Single(k)).collect();
         v.extend(EffectKind::ALL.iter().map(|&k| Family::Glitches(k)));
         v.extend(Family::PAIRS.iter().map(|&(a, b)| Family::Pair(a, b)));
-        v.extend(EffectKind::ALL.iter().filter(|&&k| k != EffectKind::None).map(|&k| Family::Withheld(k)));
+        v.extend(
+            EffectKind::ALL
+                .iter()
+                .filter(|&&k| k != EffectKind::None)
+                .map(|&k| Family::Withheld(k)),
+        );
         v.extend([Family::CameraKnown { tilted: false }, Family::CameraKnown { tilted: true }]);
         v
     }
@@ -153,7 +170,11 @@ impl Family {
 
     /// The candidates to offer (all but a withheld one).
     pub fn candidates(&self) -> Vec<EffectKind> {
-        EffectKind::ALL.iter().copied().filter(|&k| k != EffectKind::None && *self != Family::Withheld(k)).collect()
+        EffectKind::ALL
+            .iter()
+            .copied()
+            .filter(|&k| k != EffectKind::None && *self != Family::Withheld(k))
+            .collect()
     }
 }
 
@@ -219,7 +240,14 @@ pub fn family_recording(family: Family, seed: u64) -> Result<Recording, String> 
             if a.is_physical() {
                 let start = crate::physics::Sample::new(&case.model, 0.0, &case.initial.to_state());
                 let (_, s) = opts.effect.take().ok_or("a pair's first effect has no strength")?;
-                crate::physics::effects::apply(a, s, case.model.body.r, start.reynolds, &mut case.model.effects).map_err(|e| e.to_string())?;
+                crate::physics::effects::apply(
+                    a,
+                    s,
+                    case.model.body.r,
+                    start.reynolds,
+                    &mut case.model.effects,
+                )
+                .map_err(|e| e.to_string())?;
             }
             if b == EffectKind::CameraPerspective {
                 anywhere(&mut case, &mut rng);

@@ -11,10 +11,10 @@
 
 use super::residual::{departures, frame_sums, windows};
 use super::whole::{WholeFit, fit_whole, with_effect};
-use crate::physics::effects::EffectKind;
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::physics::StateVec;
+use crate::physics::effects::EffectKind;
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
 
@@ -41,23 +41,39 @@ impl Departure {
 }
 
 /// Whether a prediction from `fit` stays within the noise over `frames`.
-pub fn follows(sh: &Shooting, fit: &WholeFit, frames: Range<usize>, noise_px: f64, width: usize) -> bool {
+pub fn follows(
+    sh: &Shooting,
+    fit: &WholeFit,
+    frames: Range<usize>,
+    noise_px: f64,
+    width: usize,
+) -> bool {
     let Some(pred) = fit.marks(sh) else { return false };
     let sums = frame_sums(sh.observed, frames.clone(), &pred[..frames.len().min(pred.len())]);
-    departures(&windows(&sums, noise_px, width)).is_empty() && departures(&windows(&sums, noise_px, 4 * width)).is_empty()
+    departures(&windows(&sums, noise_px, width)).is_empty()
+        && departures(&windows(&sums, noise_px, 4 * width)).is_empty()
 }
 
 /// Finds the departure. `ms` is the baseline's multiple-shooting problem (drag free) with its
 /// fitted drag as the base, `states` its segments' start states.
-pub fn find(ms: &Shooting, states: &[StateVec], noise_px: f64, width: usize, cancel: &AtomicBool) -> Result<Departure, LmError> {
-    let span = ms.segments.first().map(|s| s.start).unwrap_or(0)..ms.segments.last().map(|s| s.end).unwrap_or(0);
+pub fn find(
+    ms: &Shooting,
+    states: &[StateVec],
+    noise_px: f64,
+    width: usize,
+    cancel: &AtomicBool,
+) -> Result<Departure, LmError> {
+    let span = ms.segments.first().map(|s| s.start).unwrap_or(0)
+        ..ms.segments.last().map(|s| s.end).unwrap_or(0);
     let first = ms.segments.first().cloned().ok_or(LmError::BadStart)?;
     // The baseline as every whole-run fit has it (the body's dimensions free).
     let base = with_effect(ms, EffectKind::None);
     let g0 = base.spec.to_internal(&base.spec.initial_values());
     let y0 = *states.first().ok_or(LmError::BadStart)?;
     let prefix = |end: usize| Shooting { segments: vec![span.start..end], ..base.clone() };
-    let fit_prefix = |end: usize, g: &[f64], y: StateVec| fit_whole(&prefix(end), g.to_vec(), &[y], &mut |_, _| {}, cancel);
+    let fit_prefix = |end: usize, g: &[f64], y: StateVec| {
+        fit_whole(&prefix(end), g.to_vec(), &[y], &mut |_, _| {}, cancel)
+    };
     let mut good = fit_prefix(first.end, &g0, y0)?;
     if !follows(&prefix(first.end), &good, span.start..first.end, noise_px, width) {
         return Ok(Departure { followed: span.start..span.start, departs: true, fit: good });

@@ -9,19 +9,39 @@ use std::fmt::Write;
 /// What each effect is, in a lab's words.
 pub fn describe(kind: EffectKind) -> &'static str {
     match kind {
-        EffectKind::None => "nothing: the paper's model (pure rolling, quadratic air drag of eq. 5)",
-        EffectKind::ReynoldsDrag => "drag coefficients that grow as the ring slows down (C_i rising as the Reynolds number falls)",
-        EffectKind::RollingFriction => "rolling friction: a torque proportional to the normal force that resists the rolling",
-        EffectKind::PivotFriction => "pivot friction: a torque proportional to the normal force that resists spinning about the vertical",
-        EffectKind::Slip => "slipping at the contact: the ring slides where rolling would need more friction than the table gives",
-        EffectKind::TranslationalDrag => "air drag on the travel of the ring (on its centre of mass), not only on its rotation",
-        EffectKind::CameraDistortion => "the camera's radial lens distortion (a measurement effect; the physics is unchanged)",
-        EffectKind::CameraPerspective => "the camera's perspective: a pinhole at a finite distance, perhaps tilted, sees marks above the table magnified (a measurement effect)",
+        EffectKind::None => {
+            "nothing: the paper's model (pure rolling, quadratic air drag of eq. 5)"
+        }
+        EffectKind::ReynoldsDrag => {
+            "drag coefficients that grow as the ring slows down (C_i rising as the Reynolds number falls)"
+        }
+        EffectKind::RollingFriction => {
+            "rolling friction: a torque proportional to the normal force that resists the rolling"
+        }
+        EffectKind::PivotFriction => {
+            "pivot friction: a torque proportional to the normal force that resists spinning about the vertical"
+        }
+        EffectKind::Slip => {
+            "slipping at the contact: the ring slides where rolling would need more friction than the table gives"
+        }
+        EffectKind::TranslationalDrag => {
+            "air drag on the travel of the ring (on its centre of mass), not only on its rotation"
+        }
+        EffectKind::CameraDistortion => {
+            "the camera's radial lens distortion (a measurement effect; the physics is unchanged)"
+        }
+        EffectKind::CameraPerspective => {
+            "the camera's perspective: a pinhole at a finite distance, perhaps tilted, sees marks above the table magnified (a measurement effect)"
+        }
     }
 }
 
 fn pm(v: f64, s: f64) -> String {
-    if s.is_finite() { format!("{} +- {}", sig(v), sig(s)) } else { format!("{} (uncertainty unknown)", sig(v)) }
+    if s.is_finite() {
+        format!("{} +- {}", sig(v), sig(s))
+    } else {
+        format!("{} (uncertainty unknown)", sig(v))
+    }
 }
 
 /// Three significant digits, plain notation where readable.
@@ -43,7 +63,9 @@ fn end_clause(s: &Signature) -> String {
             " The recording's motion ends at {d:.2} s, the baseline's at {b:.2} s{}.",
             s.end_after_s.map_or(String::new(), |a| format!(", the improved model's at {a:.2} s"))
         ),
-        (Some(d), None) => format!(" The recording's motion ends at {d:.2} s; the baseline's runs on past the recording."),
+        (Some(d), None) => format!(
+            " The recording's motion ends at {d:.2} s; the baseline's runs on past the recording."
+        ),
         _ => String::new(),
     }
 }
@@ -75,8 +97,20 @@ fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
 /// Why the signature points to the named effect.
 fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     let s = &d.signature;
-    let strength = if d.after.effect == kind { d.after.strength } else { d.after.also.iter().find(|(k, _)| *k == kind).map(|x| x.1) }.map_or(f64::NAN, |x| x.0);
-    let late = if s.late_share > 0.5 { format!(" {:.0}% of the whole-run misfit beyond the noise lies in the last third.", 100.0 * s.late_share) } else { String::new() };
+    let strength = if d.after.effect == kind {
+        d.after.strength
+    } else {
+        d.after.also.iter().find(|(k, _)| *k == kind).map(|x| x.1)
+    }
+    .map_or(f64::NAN, |x| x.0);
+    let late = if s.late_share > 0.5 {
+        format!(
+            " {:.0}% of the whole-run misfit beyond the noise lies in the last third.",
+            100.0 * s.late_share
+        )
+    } else {
+        String::new()
+    };
     match kind {
         EffectKind::ReynoldsDrag => format!(
             "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.",
@@ -96,7 +130,8 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
             let slides = if s.slides_s.is_empty() {
                 "The improved model slides only briefly.".to_string()
             } else {
-                let list: Vec<String> = s.slides_s.iter().take(6).map(|(a, b)| format!("{a:.3}-{b:.3} s")).collect();
+                let list: Vec<String> =
+                    s.slides_s.iter().take(6).map(|(a, b)| format!("{a:.3}-{b:.3} s")).collect();
                 format!(
                     "The improved model slides {} time{} ({}{}), where rolling would need more friction than mu F_N: at the launch and at the cusps of the walk.",
                     s.slides_s.len(),
@@ -119,8 +154,11 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
             100.0 * s.change_radial_share
         ),
         EffectKind::CameraPerspective => {
-            let distance = if strength > 0.0 { format!("{:.0} mm", 1000.0 / strength) } else { "far".into() };
-            let tilt = d.after.tilt_deg.map_or(String::new(), |(t, s)| format!(", tilted {} degrees from the vertical", pm(t, s)));
+            let distance =
+                if strength > 0.0 { format!("{:.0} mm", 1000.0 / strength) } else { "far".into() };
+            let tilt = d.after.tilt_deg.map_or(String::new(), |(t, s)| {
+                format!(", tilted {} degrees from the vertical", pm(t, s))
+            });
             format!(
                 "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.",
                 100.0 * s.radial_share
@@ -138,14 +176,22 @@ fn body_words(d: &Diagnosis) -> String {
         let (v, s) = f.body_mm[i];
         let header = d.header_body_mm[i];
         if (v - header).abs() > (3.0 * s).max(0.005 * header) {
-            let _ = write!(out, " The body's {name} fits as {v:.3} +- {s:.3} mm where the header says {header} mm: the header's value is off, or the marks do not sit where it implies.");
+            let _ = write!(
+                out,
+                " The body's {name} fits as {v:.3} +- {s:.3} mm where the header says {header} mm: the header's value is off, or the marks do not sit where it implies."
+            );
         }
     }
     out
 }
 
 fn fitted(f: &ModelFit) -> String {
-    format!("C1 = {}, C2 = {}, C3 = {}", pm(f.c[0], f.c_sigma[0]), pm(f.c[1], f.c_sigma[1]), pm(f.c[2], f.c_sigma[2]))
+    format!(
+        "C1 = {}, C2 = {}, C3 = {}",
+        pm(f.c[0], f.c_sigma[0]),
+        pm(f.c[1], f.c_sigma[1]),
+        pm(f.c[2], f.c_sigma[2])
+    )
 }
 
 /// The noise in words.
@@ -157,7 +203,10 @@ fn noise_words(d: &Diagnosis) -> String {
     };
     let glitches = match d.glitches.len() {
         0 => String::new(),
-        n => format!("; {n} tracked position{} left out as the tracker's glitches", if n == 1 { "" } else { "s" }),
+        n => format!(
+            "; {n} tracked position{} left out as the tracker's glitches",
+            if n == 1 { "" } else { "s" }
+        ),
     };
     format!("{:.3} px ({source}{glitches})", d.noise_px)
 }
@@ -198,10 +247,15 @@ pub fn explain(d: &Diagnosis) -> String {
     let mut out = String::new();
     let noise = noise_words(d);
     let named = d.finding.named();
-    let runner_up = d.candidates.iter().find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None);
+    let runner_up =
+        d.candidates.iter().find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None);
     let where_ = match &d.mismatch {
-        Some(m) => format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d)),
-        None => "The baseline follows the recording within its noise over the whole run.".to_string(),
+        Some(m) => {
+            format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d))
+        }
+        None => {
+            "The baseline follows the recording within its noise over the whole run.".to_string()
+        }
     };
     match &d.finding {
         Finding::Nothing => {
@@ -256,7 +310,12 @@ pub fn explain(d: &Diagnosis) -> String {
     let names: Vec<String> = named.iter().map(|k| describe(*k).to_string()).collect();
     let _ = write!(out, "Left out: {}. ", names.join("; and "));
     let (value, sigma) = d.after.strength.unwrap_or((f64::NAN, f64::NAN));
-    let mut values: Vec<String> = d.after.also.iter().map(|(k, (v, s))| format!("{} = {}", k.parameter(), pm(*v, *s))).collect();
+    let mut values: Vec<String> = d
+        .after
+        .also
+        .iter()
+        .map(|(k, (v, s))| format!("{} = {}", k.parameter(), pm(*v, *s)))
+        .collect();
     values.push(format!("{} = {}", d.after.effect.parameter(), pm(value, sigma)));
     let _ = write!(
         out,
@@ -269,7 +328,11 @@ pub fn explain(d: &Diagnosis) -> String {
     let delta = d.after.score - d.before.score;
     match runner_up {
         Some(c) => {
-            let _ = write!(out, " Its BIC is {delta:.1} against the baseline; the next candidate, {}, reaches {:.3} px ({:+.1}).", c.effect, c.rms_px, c.delta_score);
+            let _ = write!(
+                out,
+                " Its BIC is {delta:.1} against the baseline; the next candidate, {}, reaches {:.3} px ({:+.1}).",
+                c.effect, c.rms_px, c.delta_score
+            );
         }
         None => {
             let _ = write!(out, " Its BIC is {delta:.1} against the baseline.");
@@ -291,14 +354,23 @@ pub fn explain(d: &Diagnosis) -> String {
 fn residual_words(d: &Diagnosis) -> String {
     let s = &d.signature;
     let radial = if s.radial_share > 0.65 {
-        format!(" {:.0}% of its squared residual points along the radius from the image centre (50% is no preference): it depends on where the ring is in the image, as a camera's effects do.", 100.0 * s.radial_share)
+        format!(
+            " {:.0}% of its squared residual points along the radius from the image centre (50% is no preference): it depends on where the ring is in the image, as a camera's effects do.",
+            100.0 * s.radial_share
+        )
     } else if s.radial_share < 0.35 {
-        format!(" Only {:.0}% of its squared residual is radial from the image centre: it is across the radius, as a turn of the path is.", 100.0 * s.radial_share)
+        format!(
+            " Only {:.0}% of its squared residual is radial from the image centre: it is across the radius, as a turn of the path is.",
+            100.0 * s.radial_share
+        )
     } else {
         String::new()
     };
     let late = if s.late_share > 0.5 {
-        format!(" {:.0}% of the misfit beyond the noise lies in the last third of the run, where the ring slows.", 100.0 * s.late_share)
+        format!(
+            " {:.0}% of the misfit beyond the noise lies in the last third of the run, where the ring slows.",
+            100.0 * s.late_share
+        )
     } else {
         String::new()
     };

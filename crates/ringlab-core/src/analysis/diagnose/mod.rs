@@ -74,7 +74,14 @@ mod run;
 pub mod signature;
 pub mod whole;
 
-pub use options::{DEFAULT_EVIDENCE, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
-pub use result::{Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial, ResidualSeries, Signature, Trace};
-pub use rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, bic, excess_px, explained_share, explains};
+pub use options::{
+    DEFAULT_EVIDENCE, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage,
+};
+pub use result::{
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
+    ResidualSeries, Signature, Trace,
+};
+pub use rules::{
+    CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, bic, excess_px, explained_share, explains,
+};
 pub use run::diagnose;

@@ -26,7 +26,11 @@ pub const JOIN_GAP_WINDOWS: usize = 2;
 
 /// Squared residual sum and coordinate count of every frame of `span`; `pred[i]` is frame
 /// `span.start + i`.
-pub fn frame_sums(observed: &[FrameMarks], span: Range<usize>, pred: &[[[f64; 2]; 4]]) -> Vec<(f64, usize)> {
+pub fn frame_sums(
+    observed: &[FrameMarks],
+    span: Range<usize>,
+    pred: &[[[f64; 2]; 4]],
+) -> Vec<(f64, usize)> {
     observed[span]
         .iter()
         .zip(pred)

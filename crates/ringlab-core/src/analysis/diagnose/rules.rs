@@ -55,5 +55,6 @@ pub const MIN_PAIR_EXCESS_CUT: f64 = 10.0;
 /// [`explains`] with the cut asked for.
 pub fn explains_by(before_px: f64, after_px: f64, noise_px: f64, cut: f64) -> bool {
     explained_share(before_px, after_px, noise_px) >= MIN_EXPLAINED
-        && (excess_px(after_px, noise_px) * cut <= excess_px(before_px, noise_px) || after_px <= CONSISTENT_RATIO * noise_px)
+        && (excess_px(after_px, noise_px) * cut <= excess_px(before_px, noise_px)
+            || after_px <= CONSISTENT_RATIO * noise_px)
 }

@@ -4,17 +4,22 @@ use super::candidates::{fit_baseline, fit_candidates, fit_pair, refit_from};
 use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
-use super::rules::{CONSISTENT_RATIO, MIN_PAIR_EXCESS_CUT, bic, explained_share, explains, explains_by};
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
-use super::result::{Candidate, Diagnosis, Finding, MismatchWindow, PairCandidate, Partial, ModelFit, ResidualSeries, Signature, Trace};
+use super::result::{
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
+    ResidualSeries, Signature, Trace,
+};
+use super::rules::{
+    CONSISTENT_RATIO, MIN_PAIR_EXCESS_CUT, bic, explained_share, explains, explains_by,
+};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, fit};
-use crate::recording::tracks::{CheckedTracks, check_tracks};
 use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
+use crate::recording::tracks::{CheckedTracks, check_tracks};
 use crate::recording::{FrameMarks, Recording};
 use std::ops::Range;
 use std::sync::Mutex;
@@ -53,14 +58,40 @@ pub fn diagnose(
     let noise = Noise::of(&base, rec);
     let (baseline, levels) = baseline_path(&ms, &base, progress, cancel)?;
     laps.lap("baseline over the whole run");
-    let (departure, baseline, fits) = candidates_and_departure(rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel)?;
+    let (departure, baseline, fits) = candidates_and_departure(
+        rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel,
+    )?;
     laps.lap("candidates and departure");
-    progress(&DiagnoseProgress { stage: DiagnoseStage::Explain, fraction: 0.97, message: "explaining".into() });
+    progress(&DiagnoseProgress {
+        stage: DiagnoseStage::Explain,
+        fraction: 0.97,
+        message: "explaining".into(),
+    });
     let mut ranked = rank(&baseline, &fits);
-    let (finding, chosen, pairs) = forward_selection(&ms, &levels, &baseline, &mut ranked, noise.px, opts.evidence, progress, cancel)?;
+    let (finding, chosen, pairs) = forward_selection(
+        &ms,
+        &levels,
+        &baseline,
+        &mut ranked,
+        noise.px,
+        opts.evidence,
+        progress,
+        cancel,
+    )?;
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
     let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
-    let mut d = describe(rec, &tracks, &base, &ms, &baseline, chosen, &departure, &noise, opts.evidence, laps.take())?;
+    let mut d = describe(
+        rec,
+        &tracks,
+        &base,
+        &ms,
+        &baseline,
+        chosen,
+        &departure,
+        &noise,
+        opts.evidence,
+        laps.take(),
+    )?;
     d.explanation = explain(&d);
     laps.lap("residuals, signature, words");
     d.stage_seconds.extend(laps.take());
@@ -121,11 +152,19 @@ struct Chosen<'a> {
 /// model uses it, and its perspective is no suspect.
 fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, DiagnoseError> {
     if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
-        return Err(DiagnoseError::Options(format!("evidence {} must be a number >= 0", opts.evidence)));
+        return Err(DiagnoseError::Options(format!(
+            "evidence {} must be a number >= 0",
+            opts.evidence
+        )));
     }
     let camera_known = rec.header.camera_distance_mm.is_some();
     Ok(DiagnoseOptions {
-        candidates: opts.candidates.iter().copied().filter(|&k| !(camera_known && k == EffectKind::CameraPerspective)).collect(),
+        candidates: opts
+            .candidates
+            .iter()
+            .copied()
+            .filter(|&k| !(camera_known && k == EffectKind::CameraPerspective))
+            .collect(),
         ..opts.clone()
     })
 }
@@ -150,7 +189,9 @@ fn baseline_fit(
         },
         cancel,
     )
-    .map_err(|e| if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) })
+    .map_err(|e| {
+        if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) }
+    })
 }
 
 /// Stage 2: the baseline over the whole run (`whole`), from the segments' states.
@@ -169,7 +210,10 @@ fn baseline_path(
             progress(&DiagnoseProgress {
                 stage: DiagnoseStage::Candidates,
                 fraction: FIT_SHARE + (BASELINE_SHARE - FIT_SHARE) * *d,
-                message: format!("baseline over the whole run: {segments} segments, {:.2} px", (cost / base.residual_count.max(1) as f64).sqrt()),
+                message: format!(
+                    "baseline over the whole run: {segments} segments, {:.2} px",
+                    (cost / base.residual_count.max(1) as f64).sqrt()
+                ),
             });
         }
     };
@@ -198,7 +242,13 @@ fn candidates_and_departure(
     let (noise_px, width) = (noise.px, noise.window_frames);
     let follows_whole = departure::follows(ms, &baseline, baseline.span.clone(), noise_px, width);
     let (departure, candidates) = rayon::join(
-        || if follows_whole { Ok(Departure::none(&baseline)) } else { departure::find(ms, &base.segment_states, noise_px, width, cancel) },
+        || {
+            if follows_whole {
+                Ok(Departure::none(&baseline))
+            } else {
+                departure::find(ms, &base.segment_states, noise_px, width, cancel)
+            }
+        },
         || candidates_stage(ms, baseline.clone(), levels, opts, progress, cancel),
     );
     let departure = departure.map_err(lm_error)?;
@@ -282,7 +332,11 @@ fn forward_selection(
     // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
     // noise, pairs of the candidates that improved on the baseline.
     let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
-        progress(&DiagnoseProgress { stage: DiagnoseStage::Candidates, fraction: 0.95, message: "pairs of effects".into() });
+        progress(&DiagnoseProgress {
+            stage: DiagnoseStage::Candidates,
+            fraction: 0.95,
+            message: "pairs of effects".into(),
+        });
         pairs_stage(ms, levels, ranked, cancel)?
     } else {
         Vec::new()
@@ -290,9 +344,13 @@ fn forward_selection(
     let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let mut pair_fits = pair_fits;
     polish_best_pair(ms, &mut pair_fits, &pair_score, cancel)?;
-    let best_pair = pair_fits.iter().filter_map(|(_, _, r)| r.as_ref().ok()).min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
+    let best_pair = pair_fits
+        .iter()
+        .filter_map(|(_, _, r)| r.as_ref().ok())
+        .min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
     let pair_wins = best_pair.is_some_and(|p| {
-        pair_score(p) < score(chosen) - evidence && explains_by(chosen.rms_px(), p.rms_px(), noise_px, MIN_PAIR_EXCESS_CUT)
+        pair_score(p) < score(chosen) - evidence
+            && explains_by(chosen.rms_px(), p.rms_px(), noise_px, MIN_PAIR_EXCESS_CUT)
     });
     // Before a pair is named, each of its effects alone from the pair's solution: a single fit
     // can end in a side valley (rolling friction left at 1.7 px) that the pair's extra number
@@ -302,23 +360,31 @@ fn forward_selection(
         None => Vec::new(),
     };
     let best_alone = alone.iter().min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    let alone_enough = best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
+    let alone_enough =
+        best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
     if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
         finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
         chosen = p;
     } else if let Some(a) = best_alone.filter(|a| {
-        alone_enough && pair_score(a) < score(chosen) && pair_score(a) < none_score - evidence && explains(baseline.rms_px(), a.rms_px(), noise_px)
+        alone_enough
+            && pair_score(a) < score(chosen)
+            && pair_score(a) < none_score - evidence
+            && explains(baseline.rms_px(), a.rms_px(), noise_px)
     }) {
         finding = Finding::Named(vec![a.kind]);
         chosen = a;
         if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
-            (c.rms_px, c.score, c.delta_score, c.strength) = (a.rms_px(), pair_score(a), pair_score(a) - none_score, a.strength);
+            (c.rms_px, c.score, c.delta_score, c.strength) =
+                (a.rms_px(), pair_score(a), pair_score(a) - none_score, a.strength);
         }
     } else if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
         // A pair that explains more than any single one is the better partial answer.
         let share = explained_share(baseline.rms_px(), p.rms_px(), noise_px);
         if partial.as_ref().is_none_or(|q| share > q.share) {
-            *partial = Some(Partial { effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(), share });
+            *partial = Some(Partial {
+                effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(),
+                share,
+            });
         }
     }
     let pairs: Vec<PairCandidate> = {
@@ -330,7 +396,10 @@ fn forward_selection(
                     second: *b,
                     rms_px: w.rms_px(),
                     delta_score: pair_score(w) - none_score,
-                    strengths: [w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1), w.strength.unwrap_or((f64::NAN, f64::NAN))],
+                    strengths: [
+                        w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1),
+                        w.strength.unwrap_or((f64::NAN, f64::NAN)),
+                    ],
                     error: None,
                     seconds: w.seconds,
                 },
@@ -387,13 +456,27 @@ fn describe(
     let win_before = windows(&sums_before, noise_px, width);
     let win_after = windows(&sums_after, noise_px, width);
     let win_followed = windows(&sums_followed, noise_px, width);
-    let (mismatch, found) = mismatch_windows(departure, &span, (&sums_followed, &win_followed), (&sums_before, &win_before), noise_px, &time_s);
+    let (mismatch, found) = mismatch_windows(
+        departure,
+        &span,
+        (&sums_followed, &win_followed),
+        (&sums_before, &win_before),
+        noise_px,
+        &time_s,
+    );
 
     let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
     let (end_before, _) = run_end(baseline, ms, t_stop);
     let (end_after, slides) = run_end(chosen, ms, t_stop);
     let centre = baseline.camera.centre_px;
-    let mut signature = Signature::from_measured(measure(&rec.frames[span.clone()], &sums_before, &pred_before, &pred_after, centre, noise_px));
+    let mut signature = Signature::from_measured(measure(
+        &rec.frames[span.clone()],
+        &sums_before,
+        &pred_before,
+        &pred_after,
+        centre,
+        noise_px,
+    ));
     signature.end_data_s = (span.end < rec.frames.len()).then(|| time_s(span.end as f64));
     signature.end_before_s = end_before.map(to_s);
     signature.end_after_s = end_after.map(to_s);
@@ -406,7 +489,15 @@ fn describe(
         t_s: t_s.clone(),
         before_px: frame_rms(&sums_before),
         after_px: frame_rms(&sums_after),
-        window_s: win_before.iter().map(|w| (time_s((span.start + w.frames.start) as f64), time_s((span.start + w.frames.end) as f64))).collect(),
+        window_s: win_before
+            .iter()
+            .map(|w| {
+                (
+                    time_s((span.start + w.frames.start) as f64),
+                    time_s((span.start + w.frames.end) as f64),
+                )
+            })
+            .collect(),
         window_before_px: win_before.iter().map(|w| w.rms_px).collect(),
         window_after_px: win_after.iter().map(|w| w.rms_px).collect(),
         window_threshold_px: win_before.iter().map(|w| w.threshold_px).collect(),
@@ -474,10 +565,21 @@ fn describe(
 /// baseline misses by far more than the noise its residuals are no white noise, and any extra
 /// parameter that bends the path a little buys thousands of BIC points (a lens fitted to a
 /// sliding ring's recording: -735 for a misfit from 14.6 to 14.2 px).
-fn decide<'a>(baseline: &WholeFit, ranked: &[(Candidate, Option<&'a WholeFit>)], noise_px: f64, evidence: f64) -> (Finding, Option<&'a WholeFit>) {
+fn decide<'a>(
+    baseline: &WholeFit,
+    ranked: &[(Candidate, Option<&'a WholeFit>)],
+    noise_px: f64,
+    evidence: f64,
+) -> (Finding, Option<&'a WholeFit>) {
     let before = baseline.rms_px();
-    let effects = || ranked.iter().filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite());
-    if let Some((c, w)) = effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px)) {
+    let effects = || {
+        ranked
+            .iter()
+            .filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite())
+    };
+    if let Some((c, w)) =
+        effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px))
+    {
         return (Finding::Named(vec![c.effect]), *w);
     }
     if before <= CONSISTENT_RATIO * noise_px {
@@ -507,22 +609,44 @@ fn mismatch_windows(
     }
     let from = departure.followed.end - span.start;
     let var = noise_px * noise_px;
-    let excess_in = |r: &Range<usize>| sums[r.clone()].iter().map(|x| x.0 - var * x.1 as f64).sum::<f64>().max(0.0);
+    let excess_in = |r: &Range<usize>| {
+        sums[r.clone()].iter().map(|x| x.0 - var * x.1 as f64).sum::<f64>().max(0.0)
+    };
     let total = excess_in(&(from..sums.len()));
     let stats = |r: &Range<usize>| {
         let (s, c) = before[r.clone()].iter().fold((0.0, 0usize), |a, x| (a.0 + x.0, a.1 + x.1));
-        (if c > 0 { (s / c as f64).sqrt() } else { f64::NAN }, if total > 0.0 { (excess_in(r) / total).min(1.0) } else { 0.0 })
+        (
+            if c > 0 { (s / c as f64).sqrt() } else { f64::NAN },
+            if total > 0.0 { (excess_in(r) / total).min(1.0) } else { 0.0 },
+        )
     };
     let window = |r: Range<usize>| {
         let (rms_px, share) = stats(&r);
-        MismatchWindow { start_s: time_s((span.start + r.start) as f64), end_s: time_s((span.start + r.end) as f64), rms_px, share }
+        MismatchWindow {
+            start_s: time_s((span.start + r.start) as f64),
+            end_s: time_s((span.start + r.end) as f64),
+            rms_px,
+            share,
+        }
     };
-    let found: Vec<Range<usize>> = departures(wins).into_iter().map(|(r, _)| r.start.max(from)..r.end).filter(|r| r.end > r.start).collect();
+    let found: Vec<Range<usize>> = departures(wins)
+        .into_iter()
+        .map(|(r, _)| r.start.max(from)..r.end)
+        .filter(|r| r.end > r.start)
+        .collect();
     // The mismatch runs on to the last window where the stretch's fit or the whole-run baseline
     // departs: where the departure is at the very start, the stretch's fit knows only the first
     // frames and can stop departing where a fit to so little happens to pass by the data.
     let last_before = departures(wins_before).last().map(|(r, _)| r.end);
-    let end = found.last().map(|r| r.end).into_iter().chain(last_before).max().unwrap_or(before.len()).max(from + 1).min(sums.len().min(before.len()));
+    let end = found
+        .last()
+        .map(|r| r.end)
+        .into_iter()
+        .chain(last_before)
+        .max()
+        .unwrap_or(before.len())
+        .max(from + 1)
+        .min(sums.len().min(before.len()));
     (Some(window(from..end)), found.into_iter().map(window).collect())
 }
 
@@ -583,7 +707,10 @@ fn polish_best_pair(
     score: &dyn Fn(&WholeFit) -> f64,
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
-    let best = pairs.iter_mut().filter_map(|(_, _, r)| r.as_mut().ok()).min_by(|a, b| score(a).total_cmp(&score(b)));
+    let best = pairs
+        .iter_mut()
+        .filter_map(|(_, _, r)| r.as_mut().ok())
+        .min_by(|a, b| score(a).total_cmp(&score(b)));
     let Some(p) = best else { return Ok(()) };
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
     let mut sh = with_effects(ms, &kinds);
@@ -601,8 +728,13 @@ fn polish_best_pair(
 
 /// Each effect of pair `p` fitted alone over the whole run from the pair's drag, body, start
 /// state and that effect's strength.
-fn single_from_pair(ms: &Shooting, p: &WholeFit, cancel: &AtomicBool) -> Result<Vec<WholeFit>, DiagnoseError> {
-    let members: Vec<(EffectKind, f64)> = p.also.iter().map(|(k, s)| (*k, s.0)).chain(p.strength.map(|s| (p.kind, s.0))).collect();
+fn single_from_pair(
+    ms: &Shooting,
+    p: &WholeFit,
+    cancel: &AtomicBool,
+) -> Result<Vec<WholeFit>, DiagnoseError> {
+    let members: Vec<(EffectKind, f64)> =
+        p.also.iter().map(|(k, s)| (*k, s.0)).chain(p.strength.map(|s| (p.kind, s.0))).collect();
     let fits: Vec<Result<WholeFit, LmError>> = {
         use rayon::prelude::*;
         members.par_iter().map(|&(k, s)| refit_from(ms, k, p, s, cancel)).collect()
@@ -636,7 +768,11 @@ fn pairs_stage(
 ) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
     let singles: Vec<&WholeFit> = ranked
         .iter()
-        .filter(|(c, w)| c.effect != EffectKind::None && c.delta_score < 0.0 && w.is_some_and(|w| w.stopped_at.is_none()))
+        .filter(|(c, w)| {
+            c.effect != EffectKind::None
+                && c.delta_score < 0.0
+                && w.is_some_and(|w| w.stopped_at.is_none())
+        })
         .filter_map(|(_, w)| *w)
         .take(PAIRED)
         .collect();
@@ -651,8 +787,10 @@ fn pairs_stage(
         }
     }
     use rayon::prelude::*;
-    let out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> =
-        todo.par_iter().map(|(a, b)| (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel))).collect();
+    let out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> = todo
+        .par_iter()
+        .map(|(a, b)| (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel)))
+        .collect();
     if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
         return Err(DiagnoseError::Cancelled);
     }
@@ -668,7 +806,8 @@ fn candidates_stage(
     progress: &(dyn Fn(&DiagnoseProgress) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
-    let kinds: Vec<EffectKind> = opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    let kinds: Vec<EffectKind> =
+        opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
     let total = kinds.len().max(1) as f64;
     let residuals = baseline.residual_count.max(1) as f64;
     let state = Mutex::new((vec![0.0f64; EffectKind::ALL.len()], 0usize));
@@ -691,7 +830,13 @@ fn candidates_stage(
                 _ => 0.0,
             });
             let rms = (cost / residuals).sqrt();
-            report(format!("{k}: {segments} segment{}, {rms:.2} px", if segments == 1 { "" } else { "s" }), &st);
+            report(
+                format!(
+                    "{k}: {segments} segment{}, {rms:.2} px",
+                    if segments == 1 { "" } else { "s" }
+                ),
+                &st,
+            );
         }
     };
     let on_done = |k: EffectKind| {

@@ -12,8 +12,15 @@ use crate::recording::FrameMarks;
 /// and its sliding intervals (model time).
 pub fn run_end(fit: &WholeFit, sh: &Shooting, t_stop: f64) -> (Option<f64>, Vec<(f64, f64)>) {
     let t0 = fit.span.start as f64 * sh.dt;
-    let opts = RunOptions { t_end: t_stop.max(t0 + sh.dt), sample_dt: None, track_validity: false, ..sh.run.clone() };
-    let Ok(sim) = Simulation::from_state(fit.model.clone(), t0, fit.start, opts) else { return (None, Vec::new()) };
+    let opts = RunOptions {
+        t_end: t_stop.max(t0 + sh.dt),
+        sample_dt: None,
+        track_validity: false,
+        ..sh.run.clone()
+    };
+    let Ok(sim) = Simulation::from_state(fit.model.clone(), t0, fit.start, opts) else {
+        return (None, Vec::new());
+    };
     let summary = sim.run(&mut |_| {});
     let end = summary.end_reason.is_natural().then_some(summary.t_end);
     (end, summary.sliding.iter().map(|i| (i.start, i.end)).collect())
@@ -21,7 +28,12 @@ pub fn run_end(fit: &WholeFit, sh: &Shooting, t_stop: f64) -> (Option<f64>, Vec<
 
 /// Squared-residual shares along the radius from `centre`: of model minus observed
 /// (`pred` against `observed`), and of the change from `pred` to `other`.
-fn radial_shares(observed: &[FrameMarks], pred: &PredictedMarks, other: &PredictedMarks, centre: [f64; 2]) -> (f64, f64) {
+fn radial_shares(
+    observed: &[FrameMarks],
+    pred: &PredictedMarks,
+    other: &PredictedMarks,
+    centre: [f64; 2],
+) -> (f64, f64) {
     let (mut rad, mut all, mut crad, mut call) = (0.0, 0.0, 0.0, 0.0);
     for ((obs, p), q) in observed.iter().zip(pred).zip(other) {
         for k in 0..4 {
@@ -102,7 +114,8 @@ mod tests {
     #[test]
     fn radial_errors_are_told_from_tangential_ones() {
         let centre = [100.0, 100.0];
-        let obs: Vec<FrameMarks> = vec![[Some([200.0, 100.0]), Some([100.0, 300.0]), None, Some([0.0, 100.0])]];
+        let obs: Vec<FrameMarks> =
+            vec![[Some([200.0, 100.0]), Some([100.0, 300.0]), None, Some([0.0, 100.0])]];
         // Model pushed outward by 1 px: all radial; the change to `other` is tangential.
         let pred = vec![[[201.0, 100.0], [100.0, 301.0], [0.0, 0.0], [-1.0, 100.0]]];
         let other = vec![[[201.0, 101.0], [101.0, 301.0], [0.0, 0.0], [-1.0, 101.0]]];

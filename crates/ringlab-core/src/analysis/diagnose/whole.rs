@@ -71,7 +71,12 @@ impl WholeFit {
 
     /// The predicted marks at the span's frames (px), on the marks' circle of this fit's body.
     pub fn marks(&self, sh: &Shooting) -> Option<PredictedMarks> {
-        let geometry = MarkGeometry { radius: mark_radius(&self.model.body), r_outer: self.model.body.r, h: self.model.body.h, order: sh.geometry.order };
+        let geometry = MarkGeometry {
+            radius: mark_radius(&self.model.body),
+            r_outer: self.model.body.r,
+            h: self.model.body.h,
+            order: sh.geometry.order,
+        };
         Some(self.samples(sh)?.iter().map(|s| sh.project(&geometry, &self.camera, s)).collect())
     }
 }
@@ -125,7 +130,10 @@ pub fn search_range(kind: EffectKind, mu_max: f64) -> (f64, f64) {
 pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
     let costs: Vec<f64> = (0..sh.segments.len())
         .into_par_iter()
-        .map(|s| sh.segment_residuals(s, global, &states[s]).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum()))
+        .map(|s| {
+            sh.segment_residuals(s, global, &states[s])
+                .map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum())
+        })
         .collect();
     costs.iter().sum()
 }
@@ -173,7 +181,12 @@ pub fn fit_path(
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
     let clock = std::time::Instant::now();
-    let kinds: Vec<EffectKind> = sh.spec.free.iter().filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None }).collect();
+    let kinds: Vec<EffectKind> = sh
+        .spec
+        .free
+        .iter()
+        .filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None })
+        .collect();
     let kind = kinds.last().copied().unwrap_or(EffectKind::None);
     let mut sh = sh.clone();
     let mut global = global;
@@ -186,7 +199,9 @@ pub fn fit_path(
     let sol = loop {
         let last = sh.segments.len() == 1;
         let segments = sh.segments.len();
-        let as_states = |locals: &[Vec<f64>]| -> Vec<StateVec> { locals.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect() };
+        let as_states = |locals: &[Vec<f64>]| -> Vec<StateVec> {
+            locals.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect()
+        };
         // Where the longer segments fit as they start, within what the freed states allow
         // (the fit's merge rule), this stage needs no refit: the model follows the data over
         // them already. Saves most of the work for a model that is right.
@@ -196,9 +211,15 @@ pub fn fit_path(
             let variance = cost / count.saturating_sub(params).max(1) as f64;
             if start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance {
                 on_iteration(segments, start);
-                levels.push(Level { segments: sh.segments.clone(), global: global.clone(), states: as_states(&locals), cost: start });
+                levels.push(Level {
+                    segments: sh.segments.clone(),
+                    global: global.clone(),
+                    states: as_states(&locals),
+                    cost: start,
+                });
                 previous = Some((start, count, global.len() + 8 * segments));
-                sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+                sh.segments =
+                    sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
                 locals = locals.iter().step_by(2).cloned().collect();
                 continue;
             }
@@ -209,9 +230,21 @@ pub fn fit_path(
             covariance: last,
             ..LmOptions::default()
         };
-        let sol = lm::solve(&sh, global, locals, &opts, &mut |_, cost| on_iteration(segments, cost), cancel)?;
+        let sol = lm::solve(
+            &sh,
+            global,
+            locals,
+            &opts,
+            &mut |_, cost| on_iteration(segments, cost),
+            cancel,
+        )?;
         iterations += sol.iterations;
-        levels.push(Level { segments: sh.segments.clone(), global: sol.global.clone(), states: as_states(&sol.local), cost: sol.cost });
+        levels.push(Level {
+            segments: sh.segments.clone(),
+            global: sol.global.clone(),
+            states: as_states(&sol.local),
+            cost: sol.cost,
+        });
         if last {
             break sol;
         }
@@ -233,15 +266,21 @@ pub fn fit_path(
     let sigma = |i: usize| sol.global_sigma(i, params, &jac);
     let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
     let at = |want: Free| sh.spec.free.iter().position(|f| *f == want);
-    let value = |want: Free, default: f64| at(want).map_or((default, f64::INFINITY), |i| (values[i], sigma(i)));
-    let start: StateVec = sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
+    let value = |want: Free, default: f64| {
+        at(want).map_or((default, f64::INFINITY), |i| (values[i], sigma(i)))
+    };
+    let start: StateVec =
+        sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
     let fit = WholeFit {
         kind,
         c: [values[0], values[1], values[2]],
         c_sigma: [sigma(0), sigma(1), sigma(2)],
         strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
         tilt_deg: at(Free::CameraTilt).map(|_| value(Free::CameraTilt, 0.0)),
-        also: kinds[..kinds.len().saturating_sub(1)].iter().map(|&k| (k, value(Free::Effect(k), f64::NAN))).collect(),
+        also: kinds[..kinds.len().saturating_sub(1)]
+            .iter()
+            .map(|&k| (k, value(Free::Effect(k), f64::NAN)))
+            .collect(),
         body: [value(Free::Body(0), model.body.r), value(Free::Body(1), model.body.h)],
         start,
         span: sh.segments[0].clone(),

@@ -35,11 +35,18 @@ pub struct Span {
 pub fn feature_misfit(model: &Model, run: &RunOptions, span: &Span, data: &Features) -> f64 {
     let t_stop = span.t_stop;
     let opts = RunOptions { t_end: t_stop, sample_dt: None, track_validity: false, ..run.clone() };
-    let Ok(sim) = Simulation::from_state(model.clone(), span.t0, span.y0, opts) else { return f64::INFINITY };
+    let Ok(sim) = Simulation::from_state(model.clone(), span.t0, span.y0, opts) else {
+        return f64::INFINITY;
+    };
     let summary = sim.run(&mut |_| {});
     let ended = summary.end_reason.is_natural();
     let envelope = |kind: TurnKind| -> Vec<(f64, f64)> {
-        summary.turning_points.iter().filter(|p| p.kind == kind).map(|p| (p.sample.t, p.sample.theta())).collect()
+        summary
+            .turning_points
+            .iter()
+            .filter(|p| p.kind == kind)
+            .map(|p| (p.sample.t, p.sample.theta()))
+            .collect()
     };
     let (mins, maxs) = (envelope(TurnKind::ThetaMin), envelope(TurnKind::ThetaMax));
     let mut sum = 0.0;
@@ -88,7 +95,9 @@ pub fn sweep(
 ) -> ([f64; 3], f64) {
     let n1: usize = axes.iter().map(|a| a.n).product();
     let refine = |best: [f64; 3]| {
-        let ratio = |a: &Axis| if a.n > 1 && a.log { (a.hi / a.lo).powf(1.0 / (a.n - 1) as f64) } else { 1.0 };
+        let ratio = |a: &Axis| {
+            if a.n > 1 && a.log { (a.hi / a.lo).powf(1.0 / (a.n - 1) as f64) } else { 1.0 }
+        };
         let mut i = 0;
         axes.map(|a| {
             let r = ratio(&a);
@@ -102,7 +111,9 @@ pub fn sweep(
         m.c_drag = c;
         (c, feature_misfit(&m, run, span, data))
     };
-    let best_of = |rows: Vec<([f64; 3], f64)>| rows.into_iter().fold(([0.0; 3], f64::INFINITY), |b, r| if r.1 < b.1 { r } else { b });
+    let best_of = |rows: Vec<([f64; 3], f64)>| {
+        rows.into_iter().fold(([0.0; 3], f64::INFINITY), |b, r| if r.1 < b.1 { r } else { b })
+    };
     let first = best_of(grid_map(axes, &score, &|k| progress(k, n1 + 125)));
     if !first.1.is_finite() {
         return first;

@@ -9,7 +9,9 @@ use super::options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage
 use super::params::{Free, ModelSpec};
 use super::result::FitResult;
 use super::shooting::Shooting;
-use super::start::{features, fit_segment, init_segments, level_start, reconstruct, split, start_at_turning_point};
+use super::start::{
+    features, fit_segment, init_segments, level_start, reconstruct, split, start_at_turning_point,
+};
 use crate::physics::effects::EffectKind;
 use crate::physics::{Model, RunOptions, Sample, StateVec, TurnKind};
 use crate::recording::recover::{RecoveredMotion, recover_with};
@@ -88,21 +90,29 @@ impl FitRun<'_> {
     fn recover(&self, rec: &Recording) -> Result<Data, FitError> {
         let opts = self.opts;
         if opts.segment_frames < 10 {
-            return Err(FitError::Options(format!("segments of {} frames are too short (10 at least)", opts.segment_frames)));
+            return Err(FitError::Options(format!(
+                "segments of {} frames are too short (10 at least)",
+                opts.segment_frames
+            )));
         }
         self.report(FitStage::Recover, 0, 1, None);
         let tracks = if opts.leave_out_glitches { check_tracks(rec) } else { as_tracked(rec) };
         let rec = &tracks.recording;
-        let mut camera = Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
+        let mut camera =
+            Camera { k1: opts.lens_k1, ..Camera::for_recording(&rec.header, &rec.frames) };
         if let Some(d) = opts.camera_distance_mm {
             if !(d.is_finite() && d > 0.0) {
-                return Err(FitError::Options(format!("camera distance {d} mm must be a positive number")));
+                return Err(FitError::Options(format!(
+                    "camera distance {d} mm must be a positive number"
+                )));
             }
             camera.distance_mm = Some(d);
         }
         if let Some(t) = opts.camera_tilt_deg {
             if !(t.abs() < 80.0) {
-                return Err(FitError::Options(format!("camera tilt {t} degrees must lie between -80 and 80")));
+                return Err(FitError::Options(format!(
+                    "camera tilt {t} degrees must lie between -80 and 80"
+                )));
             }
             camera.tilt_rad = t.to_radians();
         }
@@ -129,7 +139,8 @@ impl FitRun<'_> {
         let units = motion.units;
         let to_model = motion.to_model();
         let body = motion.body_model().map_err(FitError::Model)?;
-        let base = Model::new(body, units.g(), opts.c_start, units.nu_air()).map_err(FitError::Model)?;
+        let base =
+            Model::new(body, units.g(), opts.c_start, units.nu_air()).map_err(FitError::Model)?;
         let dt = 1.0 / motion.fps * to_model.time;
         let mut starts = reconstruct(motion, f0);
         // The start is a turning point: the same states with theta' = 0, and the paper's reading.
@@ -144,13 +155,18 @@ impl FitRun<'_> {
             free.push(Free::Effect(kind));
         }
         let re_start = Sample::new(&base, 0.0, &y0).reynolds;
-        let spec = ModelSpec { base, camera: data.camera, free, re_start, strength_ranges: Vec::new() };
+        let spec =
+            ModelSpec { base, camera: data.camera, free, re_start, strength_ranges: Vec::new() };
         let shooting = Shooting {
             observed: &data.tracks.recording.frames,
             segments: split(f0, data.moving_end, opts.segment_frames),
             dt,
             spec,
-            run: RunOptions { tol: opts.tolerances, theta_flat: FIT_THETA_FLAT, ..RunOptions::default() },
+            run: RunOptions {
+                tol: opts.tolerances,
+                theta_flat: FIT_THETA_FLAT,
+                ..RunOptions::default()
+            },
             geometry: motion.geometry_mm.scaled(to_model.length),
             length_mm: 1.0 / to_model.length,
             budget: None,
@@ -171,7 +187,10 @@ impl FitRun<'_> {
         let mut candidates = std::mem::take(&mut p.starts);
         for part in [4, 2, 1] {
             let end = first.start + (first.len() / part).max(12).min(first.len());
-            let window = Shooting { segments: std::iter::once(first.start..end).collect(), ..p.shooting.clone() };
+            let window = Shooting {
+                segments: std::iter::once(first.start..end).collect(),
+                ..p.shooting.clone()
+            };
             p.y0 = fit_segment(&window, 0, &p.global, &candidates, self.cancel)?.0;
             candidates = vec![p.y0];
         }
@@ -189,24 +208,35 @@ impl FitRun<'_> {
         let axes = self.opts.coarse_axes;
         let total = axes.iter().map(|a| a.n).product::<usize>() + 125;
         // The end time is a feature here: the model ends where a plain run (and `synth`) does.
-        let plain = RunOptions { theta_flat: RunOptions::default().theta_flat, ..p.shooting.run.clone() };
-        let (c, score) = coarse::sweep(&p.shooting.spec.base, &plain, &span, &features, axes, &|k, _| {
-            self.report(FitStage::Sweep, k, total, None)
-        });
+        let plain =
+            RunOptions { theta_flat: RunOptions::default().theta_flat, ..p.shooting.run.clone() };
+        let (c, score) =
+            coarse::sweep(&p.shooting.spec.base, &plain, &span, &features, axes, &|k, _| {
+                self.report(FitStage::Sweep, k, total, None)
+            });
         self.check()?;
         Ok(score.is_finite().then_some(c))
     }
 
     /// Stage 5: each segment's state in turn, with the coarse drag and with the starting drag:
     /// the features can mislead (turning points a slow camera blurs), the misfit decides.
-    fn segment_states(&self, data: &Data, p: &mut Problem, coarse_c: Option<[f64; 3]>) -> Result<(), FitError> {
-        let report = |stage: FitStage, done: usize, total: usize, rms: Option<f64>| self.report(stage, done, total, rms);
+    fn segment_states(
+        &self,
+        data: &Data,
+        p: &mut Problem,
+        coarse_c: Option<[f64; 3]>,
+    ) -> Result<(), FitError> {
+        let report = |stage: FitStage, done: usize, total: usize, rms: Option<f64>| {
+            self.report(stage, done, total, rms)
+        };
         let mut best: Option<(f64, Vec<f64>, Vec<StateVec>)> = None;
-        let drags = coarse_c.into_iter().map(|c| c.map(f64::ln).to_vec()).chain([p.global[..3].to_vec()]);
+        let drags =
+            coarse_c.into_iter().map(|c| c.map(f64::ln).to_vec()).chain([p.global[..3].to_vec()]);
         for drag in drags {
             let mut g = p.global.clone();
             g[..3].copy_from_slice(&drag);
-            let (cost, states) = init_segments(&p.shooting, &data.motion, &g, p.y0, &report, self.cancel)?;
+            let (cost, states) =
+                init_segments(&p.shooting, &data.motion, &g, p.y0, &report, self.cancel)?;
             if best.as_ref().is_none_or(|b| cost < b.0) {
                 best = Some((cost, g, states));
             }
@@ -224,24 +254,37 @@ impl FitRun<'_> {
         let mut shooting = p.shooting;
         let locals: Vec<Vec<f64>> = p.states.iter().map(|y| y.to_vec()).collect();
         let m_total: usize = (0..shooting.segments.len()).map(|s| shooting.residual_count(s)).sum();
-        let mut on_iteration = |k, cost: f64| self.report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt()));
-        let mut sol = lm::solve(&shooting, p.global, locals, &lm_opts, &mut on_iteration, self.cancel)?;
+        let mut on_iteration = |k, cost: f64| {
+            self.report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt()))
+        };
+        let mut sol =
+            lm::solve(&shooting, p.global, locals, &lm_opts, &mut on_iteration, self.cancel)?;
         let mut iterations = sol.iterations;
         for _ in 0..self.opts.merges {
             if shooting.segments.len() < 2 {
                 break;
             }
-            let merged: Vec<Range<usize>> = shooting.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+            let merged: Vec<Range<usize>> =
+                shooting.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
             let locals: Vec<Vec<f64>> = sol.local.iter().step_by(2).cloned().collect();
             let longer = Shooting { segments: merged, ..shooting.clone() };
-            let trial = lm::solve(&longer, sol.global.clone(), locals, &lm_opts, &mut on_iteration, self.cancel)?;
+            let trial = lm::solve(
+                &longer,
+                sol.global.clone(),
+                locals,
+                &lm_opts,
+                &mut on_iteration,
+                self.cancel,
+            )?;
             iterations += trial.iterations;
             // Merging frees 8 numbers per pair: the cost may grow by about that many noise
             // variances. Much more means the segments no longer follow the data (a model that
             // is not the ring's, or a start state the least squares could not reach): keep the
             // shorter.
             let freed = 8.0 * (shooting.segments.len() - longer.segments.len()) as f64;
-            let variance = sol.cost / (sol.residual_count as f64 - (sol.global.len() + 8 * sol.local.len()) as f64).max(1.0);
+            let variance = sol.cost
+                / (sol.residual_count as f64 - (sol.global.len() + 8 * sol.local.len()) as f64)
+                    .max(1.0);
             if (trial.cost - sol.cost) / variance > freed + 4.0 * (2.0 * freed).sqrt() {
                 break;
             }
@@ -254,7 +297,12 @@ impl FitRun<'_> {
 impl Refined<'_> {
     /// Stage 7: the fitted values with their sigmas, the model's state at the first inner
     /// turning point, everything a caller may want to run or refit.
-    fn into_result(self, data: &Data, coarse_c: Option<[f64; 3]>, clock: Instant) -> Result<FitResult, FitError> {
+    fn into_result(
+        self,
+        data: &Data,
+        coarse_c: Option<[f64; 3]>,
+        clock: Instant,
+    ) -> Result<FitResult, FitError> {
         let Refined { shooting, sol, iterations } = self;
         let dt = shooting.dt;
         let count = shooting.segments.len();
@@ -262,10 +310,12 @@ impl Refined<'_> {
         let params = sol.global.len() + count * 8;
         let jac = shooting.spec.value_per_internal(&sol.global);
         let sigma = |i: usize| sol.global_sigma(i, params, &jac);
-        let segment_states: Vec<StateVec> = sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
+        let segment_states: Vec<StateVec> =
+            sol.local.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect();
         let (model, camera) = shooting.spec.build(&sol.global).ok_or(FitError::BadStart)?;
         let window = shooting.segments[0].len();
-        let (start, start_t) = start_at_turning_point(&model, &shooting.run, dt, data.f0, window, &segment_states[0]);
+        let (start, start_t) =
+            start_at_turning_point(&model, &shooting.run, dt, data.f0, window, &segment_states[0]);
         let effect = match shooting.spec.free.get(3) {
             Some(Free::Effect(kind)) => Some((*kind, values[3], sigma(3))),
             _ => None,

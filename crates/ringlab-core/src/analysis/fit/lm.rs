@@ -30,7 +30,12 @@ pub trait BlockProblem: Sync {
     }
     /// The forward-difference columns (steps from [`BlockProblem::local_step`]) of block `s`
     /// for [`BlockProblem::symmetric_locals`], in that order; None where they cannot be had.
-    fn symmetry_columns(&self, _s: usize, _global: &[f64], _local: &[f64]) -> Option<Vec<Vec<f64>>> {
+    fn symmetry_columns(
+        &self,
+        _s: usize,
+        _global: &[f64],
+        _local: &[f64],
+    ) -> Option<Vec<Vec<f64>>> {
         None
     }
 }
@@ -104,19 +109,28 @@ struct BlockJacobian {
 
 /// Cost and residuals of every block, None where any block fails.
 fn evaluate(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>]) -> Option<(f64, Vec<Vec<f64>>)> {
-    let res: Option<Vec<Vec<f64>>> = (0..p.block_count()).into_par_iter().map(|s| p.residuals(s, g, &b[s])).collect();
+    let res: Option<Vec<Vec<f64>>> =
+        (0..p.block_count()).into_par_iter().map(|s| p.residuals(s, g, &b[s])).collect();
     let res = res?;
     let cost = res.iter().flatten().map(|x| x * x).sum();
     Some((cost, res))
 }
 
-fn linearize(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>], base: Vec<Vec<f64>>, cost: f64) -> Option<Linearized> {
+fn linearize(
+    p: &dyn BlockProblem,
+    g: &[f64],
+    b: &[Vec<f64>],
+    base: Vec<Vec<f64>>,
+    cost: f64,
+) -> Option<Linearized> {
     let (ng, nb) = (p.global_count(), p.block_size());
     let sym = p.symmetric_locals();
     // One job per (block, column), and one per block for the columns a symmetry gives (None).
     let jobs: Vec<(usize, Option<usize>)> = (0..p.block_count())
         .flat_map(|s| {
-            let plain = (0..ng + nb).filter(move |&c| c < ng || !sym.contains(&(c - ng))).map(move |c| (s, Some(c)));
+            let plain = (0..ng + nb)
+                .filter(move |&c| c < ng || !sym.contains(&(c - ng)))
+                .map(move |c| (s, Some(c)));
             plain.chain((!sym.is_empty()).then_some((s, None)))
         })
         .collect();
@@ -253,7 +267,11 @@ pub fn solve(
             };
             cov = Some(schur_inverse);
             let g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
-            let b_t: Vec<Vec<f64>> = b.iter().zip(&db).map(|(bs, d)| bs.iter().zip(d.iter()).map(|(a, d)| a + d).collect()).collect();
+            let b_t: Vec<Vec<f64>> = b
+                .iter()
+                .zip(&db)
+                .map(|(bs, d)| bs.iter().zip(d.iter()).map(|(a, d)| a + d).collect())
+                .collect();
             match evaluate(p, &g_t, &b_t) {
                 Some((c_t, r_t)) if c_t < lin.cost => {
                     let gain = (lin.cost - c_t) / lin.cost.max(1e-300);
@@ -282,7 +300,14 @@ pub fn solve(
     {
         cov = Some(step.schur_inverse);
     }
-    Ok(LmSolution { global: g, local: b, cost, residual_count, iterations, global_cov_unscaled: cov.filter(|c| c.nrows() > 0) })
+    Ok(LmSolution {
+        global: g,
+        local: b,
+        cost,
+        residual_count,
+        iterations,
+        global_cov_unscaled: cov.filter(|c| c.nrows() > 0),
+    })
 }
 
 #[cfg(test)]
@@ -315,8 +340,20 @@ mod tests {
     #[test]
     fn minimizes_rosenbrock() {
         let opts = LmOptions { max_iterations: 200, rel_tol: 1e-14, ..LmOptions::default() };
-        let sol = solve(&Rosenbrock, vec![-1.2, 1.0], vec![vec![]], &opts, &mut |_, _| {}, &AtomicBool::new(false)).unwrap();
-        assert!((sol.global[0] - 1.0).abs() < 1e-5 && (sol.global[1] - 1.0).abs() < 1e-5, "{:?}", sol.global);
+        let sol = solve(
+            &Rosenbrock,
+            vec![-1.2, 1.0],
+            vec![vec![]],
+            &opts,
+            &mut |_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        assert!(
+            (sol.global[0] - 1.0).abs() < 1e-5 && (sol.global[1] - 1.0).abs() < 1e-5,
+            "{:?}",
+            sol.global
+        );
         assert!(sol.cost < 1e-10);
     }
 
@@ -337,7 +374,13 @@ mod tests {
             2
         }
         fn residuals(&self, s: usize, g: &[f64], b: &[f64]) -> Option<Vec<f64>> {
-            Some(self.t.iter().zip(&self.data[s]).map(|(t, y)| b[0] * (-g[0] * t).exp() + b[1] - y).collect())
+            Some(
+                self.t
+                    .iter()
+                    .zip(&self.data[s])
+                    .map(|(t, y)| b[0] * (-g[0] * t).exp() + b[1] - y)
+                    .collect(),
+            )
         }
         fn global_step(&self, _: usize, v: f64) -> f64 {
             1e-7 * v.abs().max(1e-3)
@@ -355,11 +398,21 @@ mod tests {
         let noise = 0.01;
         let data = truth
             .iter()
-            .map(|(a, c)| t.iter().map(|t| a * (-0.7 * t).exp() + c + noise * rng.normal()).collect())
+            .map(|(a, c)| {
+                t.iter().map(|t| a * (-0.7 * t).exp() + c + noise * rng.normal()).collect()
+            })
             .collect();
         let p = Decays { t, data };
         let start = vec![vec![1.0, 0.0]; 4];
-        let sol = solve(&p, vec![0.3], start, &LmOptions::default(), &mut |_, _| {}, &AtomicBool::new(false)).unwrap();
+        let sol = solve(
+            &p,
+            vec![0.3],
+            start,
+            &LmOptions::default(),
+            &mut |_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
         let sigma2 = sol.cost / (sol.residual_count - 9) as f64;
         let k_sigma = (sigma2 * sol.global_cov_unscaled.as_ref().unwrap()[(0, 0)]).sqrt();
         assert!((sol.global[0] - 0.7).abs() < 4.0 * k_sigma, "k = {} +- {k_sigma}", sol.global[0]);
@@ -374,8 +427,14 @@ mod tests {
     fn the_covariance_only_when_asked_for() {
         let cancel = AtomicBool::new(false);
         let at = |covariance: bool| {
-            let opts = LmOptions { max_iterations: 200, rel_tol: 1e-14, covariance, ..LmOptions::default() };
-            solve(&Rosenbrock, vec![-1.2, 1.0], vec![vec![]], &opts, &mut |_, _| {}, &cancel).unwrap()
+            let opts = LmOptions {
+                max_iterations: 200,
+                rel_tol: 1e-14,
+                covariance,
+                ..LmOptions::default()
+            };
+            solve(&Rosenbrock, vec![-1.2, 1.0], vec![vec![]], &opts, &mut |_, _| {}, &cancel)
+                .unwrap()
         };
         let (with, without) = (at(true), at(false));
         assert!(with.global_cov_unscaled.is_some_and(|c| c.nrows() == 2));
@@ -387,7 +446,14 @@ mod tests {
     #[test]
     fn stops_when_cancelled() {
         let cancel = AtomicBool::new(true);
-        let r = solve(&Rosenbrock, vec![-1.2, 1.0], vec![vec![]], &LmOptions::default(), &mut |_, _| {}, &cancel);
+        let r = solve(
+            &Rosenbrock,
+            vec![-1.2, 1.0],
+            vec![vec![]],
+            &LmOptions::default(),
+            &mut |_, _| {},
+            &cancel,
+        );
         assert_eq!(r.unwrap_err(), LmError::Cancelled);
     }
 }

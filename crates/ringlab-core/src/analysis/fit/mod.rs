@@ -54,5 +54,5 @@ mod start;
 
 pub use driver::fit;
 pub use options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};
-pub use result::FitResult;
 pub use params::{Free, ModelSpec};
+pub use result::FitResult;

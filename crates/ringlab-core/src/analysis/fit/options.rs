@@ -97,7 +97,9 @@ pub enum FitError {
     Options(String),
     #[error("the model cannot be built: {0}")]
     Model(ParamError),
-    #[error("too few frames after the start (frame {start}) to fit: {frames}, one segment at least")]
+    #[error(
+        "too few frames after the start (frame {start}) to fit: {frames}, one segment at least"
+    )]
     TooFewFrames { start: usize, frames: usize },
     #[error("the start state cannot be reconstructed at frame {0} (marks missing around it?)")]
     NoStartState(usize),

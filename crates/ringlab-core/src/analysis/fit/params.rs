@@ -8,8 +8,8 @@
 //! `1000 mm / D`, 0 orthographic) with the tilt a number of its own, every other effect the
 //! physics.
 
-use crate::physics::effects::{self, EffectKind};
 use crate::physics::Model;
+use crate::physics::effects::{self, EffectKind};
 use crate::recording::Camera;
 
 /// One free global parameter.
@@ -103,7 +103,9 @@ impl ModelSpec {
             .map(|f| match f {
                 Free::Drag(i) => self.base.c_drag[*i],
                 Free::Effect(EffectKind::CameraDistortion) => self.camera.k1,
-                Free::Effect(EffectKind::CameraPerspective) => self.camera.distance_mm.map_or(0.0, |d| 1000.0 / d),
+                Free::Effect(EffectKind::CameraPerspective) => {
+                    self.camera.distance_mm.map_or(0.0, |d| 1000.0 / d)
+                }
                 Free::Effect(_) => 0.0,
                 Free::CameraTilt => self.camera.tilt_rad.to_degrees(),
                 Free::Body(0) => self.base.body.r,
@@ -161,7 +163,8 @@ impl ModelSpec {
                     if self.out_of_range(*kind, v) {
                         return None;
                     }
-                    effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects).ok()?;
+                    effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects)
+                        .ok()?;
                 }
                 Free::Body(_) => {}
             }

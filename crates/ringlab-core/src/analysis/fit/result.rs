@@ -64,7 +64,13 @@ impl FitResult {
             observed,
             segments: self.segments.clone(),
             dt: self.dt,
-            spec: ModelSpec { base: self.model.clone(), camera: self.camera, free, re_start: self.re_start, strength_ranges: Vec::new() },
+            spec: ModelSpec {
+                base: self.model.clone(),
+                camera: self.camera,
+                free,
+                re_start: self.re_start,
+                strength_ranges: Vec::new(),
+            },
             run: self.run.clone(),
             geometry: self.geometry,
             length_mm: self.units.length_mm,
@@ -77,7 +83,8 @@ impl FitResult {
     /// table coordinates, model units; the recording's are in mm).
     pub fn model_run(&self) -> Result<(RunSummary, Vec<Sample>), RunError> {
         let opts = RunOptions { sample_dt: Some(self.dt), ..RunOptions::default() };
-        let sim = Simulation::from_state(self.model.clone(), self.start_t, self.start.to_state(), opts)?;
+        let sim =
+            Simulation::from_state(self.model.clone(), self.start_t, self.start.to_state(), opts)?;
         let mut samples = Vec::new();
         let summary = sim.run(&mut |s| samples.push(*s));
         Ok((summary, samples))

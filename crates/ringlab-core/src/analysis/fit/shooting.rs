@@ -5,9 +5,8 @@
 //! frame times; once the run ends (flat), the frames show its final pose, still, as a
 //! recording does and as `synth` writes (frames at or after `floor(t_end / dt)`).
 
-
-use super::params::ModelSpec;
 use super::lm::BlockProblem;
+use super::params::ModelSpec;
 use crate::physics::model::{STATE_LEN, ix};
 use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
 use crate::recording::marks::MarkGeometry;
@@ -71,17 +70,36 @@ pub const STEPS_PER_FRAME: u64 = 100;
 
 /// The model's samples at the frames `range` from state `y0` at the first of them: one per
 /// frame, the final pose repeated after the run's end. None when the run cannot start.
-pub fn predict_samples(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> Option<Vec<Sample>> {
+pub fn predict_samples(
+    model: &Model,
+    run: &RunOptions,
+    dt: f64,
+    y0: &StateVec,
+    range: Range<usize>,
+) -> Option<Vec<Sample>> {
     predict_samples_counted(model, run, dt, y0, range).0
 }
 
 /// As [`predict_samples`], with the integration steps it took.
-pub fn predict_samples_counted(model: &Model, run: &RunOptions, dt: f64, y0: &StateVec, range: Range<usize>) -> (Option<Vec<Sample>>, u64) {
+pub fn predict_samples_counted(
+    model: &Model,
+    run: &RunOptions,
+    dt: f64,
+    y0: &StateVec,
+    range: Range<usize>,
+) -> (Option<Vec<Sample>>, u64) {
     let t0 = range.start as f64 * dt;
     let n = range.len();
-    let opts = RunOptions { t_end: t0 + n as f64 * dt, sample_dt: Some(dt), track_validity: false, ..run.clone() };
+    let opts = RunOptions {
+        t_end: t0 + n as f64 * dt,
+        sample_dt: Some(dt),
+        track_validity: false,
+        ..run.clone()
+    };
     let t_end = opts.t_end;
-    let Ok(mut sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else { return (None, 0) };
+    let Ok(mut sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else {
+        return (None, 0);
+    };
     let mut grid = Vec::with_capacity(n);
     let mut sink = |s: &Sample| {
         if grid.len() < n {
@@ -129,7 +147,12 @@ impl Shooting<'_> {
     /// camera sees heights (a pinhole or a tilted camera), else on the table (as before, to the
     /// bit).
     #[inline]
-    pub fn project(&self, geometry: &MarkGeometry, camera: &Camera, s: &Sample) -> [[f64; 2]; MARKS] {
+    pub fn project(
+        &self,
+        geometry: &MarkGeometry,
+        camera: &Camera,
+        s: &Sample,
+    ) -> [[f64; 2]; MARKS] {
         let k = self.length_mm;
         if camera.sees_height() {
             let m = geometry.marks3([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
@@ -145,7 +168,8 @@ impl Shooting<'_> {
         if self.budget.as_ref().is_some_and(|b| b.spent()) {
             return None;
         }
-        let (samples, steps) = predict_samples_counted(model, &self.run, self.dt, y0, self.segments[s].clone());
+        let (samples, steps) =
+            predict_samples_counted(model, &self.run, self.dt, y0, self.segments[s].clone());
         if let Some(b) = &self.budget {
             b.charge(steps);
         }
@@ -153,7 +177,13 @@ impl Shooting<'_> {
     }
 
     /// Predicted marks of segment `s` from its start state.
-    pub fn predict(&self, model: &Model, camera: &Camera, s: usize, y0: &StateVec) -> Option<PredictedMarks> {
+    pub fn predict(
+        &self,
+        model: &Model,
+        camera: &Camera,
+        s: usize,
+        y0: &StateVec,
+    ) -> Option<PredictedMarks> {
         let samples = self.samples(model, s, y0)?;
         let geometry = self.geometry_of(model);
         Some(samples.iter().map(|x| self.project(&geometry, camera, x)).collect())
@@ -187,7 +217,10 @@ impl Shooting<'_> {
 
     /// Number of tracked mark coordinates in segment `s`.
     pub fn residual_count(&self, s: usize) -> usize {
-        2 * self.observed[self.segments[s].clone()].iter().map(|f| f.iter().flatten().count()).sum::<usize>()
+        2 * self.observed[self.segments[s].clone()]
+            .iter()
+            .map(|f| f.iter().flatten().count())
+            .sum::<usize>()
     }
 }
 
@@ -228,7 +261,12 @@ const SYMMETRIC: [usize; 4] = [ix::PHI, ix::PSI, ix::X, ix::Y];
 impl Shooting<'_> {
     /// Forward-difference columns for [`SYMMETRIC`] from one run: the samples moved, turned
     /// or spun, and projected again.
-    fn symmetry_columns_of(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
+    fn symmetry_columns_of(
+        &self,
+        s: usize,
+        global: &[f64],
+        local: &[f64],
+    ) -> Option<Vec<Vec<f64>>> {
         let (model, camera) = self.spec.build(global)?;
         let y0: StateVec = local.try_into().ok()?;
         if y0.iter().any(|v| !v.is_finite()) {
@@ -236,7 +274,9 @@ impl Shooting<'_> {
         }
         let samples = self.samples(&model, s, &y0)?;
         let geometry = self.geometry_of(&model);
-        let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks { samples.iter().map(|x| self.project(&geometry, &camera, &f(x))).collect() };
+        let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks {
+            samples.iter().map(|x| self.project(&geometry, &camera, &f(x))).collect()
+        };
         let base = self.residuals_of(s, &project(&|x| *x));
         let (cx, cy) = (y0[ix::X], y0[ix::Y]);
         let cols = SYMMETRIC.map(|i| {

@@ -30,7 +30,8 @@ pub(super) fn init_segments(
         report(FitStage::Segments, s, count, None);
         let mut starts = Vec::new();
         let prev = sh.segments[s - 1].clone();
-        if let Some(samples) = predict_samples(&model, &sh.run, sh.dt, &states[s - 1], prev.start..prev.end + 1)
+        if let Some(samples) =
+            predict_samples(&model, &sh.run, sh.dt, &states[s - 1], prev.start..prev.end + 1)
             && let Some(last) = samples.last().filter(|x| x.t > (prev.end as f64 - 0.5) * sh.dt)
         {
             starts.push(last.y);
@@ -69,18 +70,34 @@ pub(super) fn split(start: usize, end: usize, len: usize) -> Vec<Range<usize>> {
 /// both branches `(phi, psi)` and `(phi + pi, psi + pi)` and with rates over +-2 and +-4
 /// frames (the shorter for slow cameras): the fit keeps the one that fits best.
 pub(super) fn reconstruct(motion: &RecoveredMotion, i: usize) -> Vec<StateVec> {
-    let j = (0..4).flat_map(|d| [i + d, i.saturating_sub(d)]).find(|&j| motion.state(j, 4, false).is_some());
+    let j = (0..4)
+        .flat_map(|d| [i + d, i.saturating_sub(d)])
+        .find(|&j| motion.state(j, 4, false).is_some());
     let Some(j) = j else { return Vec::new() };
-    [(4, false), (4, true), (2, false), (2, true)].iter().filter_map(|&(half, f)| motion.state(j, half, f)).collect()
+    [(4, false), (4, true), (2, false), (2, true)]
+        .iter()
+        .filter_map(|&(half, f)| motion.state(j, half, f))
+        .collect()
 }
 
 /// Fits segment `s`'s start state from the best of `starts` with the globals fixed.
-pub(super) fn fit_segment(sh: &Shooting, s: usize, global: &[f64], starts: &[StateVec], cancel: &AtomicBool) -> Result<(StateVec, f64), FitError> {
+pub(super) fn fit_segment(
+    sh: &Shooting,
+    s: usize,
+    global: &[f64],
+    starts: &[StateVec],
+    cancel: &AtomicBool,
+) -> Result<(StateVec, f64), FitError> {
     let problem = OneSegment { shooting: sh, segment: s, global: global.to_vec() };
     let cost = |y: &StateVec| {
-        sh.segment_residuals(s, global, y).map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum::<f64>())
+        sh.segment_residuals(s, global, y)
+            .map_or(f64::INFINITY, |r| r.iter().map(|x| x * x).sum::<f64>())
     };
-    let best = starts.iter().copied().min_by(|a, b| cost(a).total_cmp(&cost(b))).ok_or(FitError::BadStart)?;
+    let best = starts
+        .iter()
+        .copied()
+        .min_by(|a, b| cost(a).total_cmp(&cost(b)))
+        .ok_or(FitError::BadStart)?;
     let opts = LmOptions { max_iterations: 25, rel_tol: 1e-6, ..LmOptions::default() };
     match lm::solve(&problem, best.to_vec(), vec![vec![]], &opts, &mut |_, _| {}, cancel) {
         Ok(sol) => Ok((sol.global.as_slice().try_into().unwrap_or(best), sol.cost)),
@@ -98,7 +115,13 @@ pub(super) fn level_start(y: &StateVec) -> StateVec {
 }
 
 /// The data's features for the coarse stage, in model time.
-pub(super) fn features(motion: &RecoveredMotion, f0: usize, moving_end: usize, n: usize, dt: f64) -> Features {
+pub(super) fn features(
+    motion: &RecoveredMotion,
+    f0: usize,
+    moving_end: usize,
+    n: usize,
+    dt: f64,
+) -> Features {
     let turning_points = motion
         .turning_points
         .iter()
@@ -112,7 +135,14 @@ pub(super) fn features(motion: &RecoveredMotion, f0: usize, moving_end: usize, n
 /// The model's state at the first inner turning point: at frame `f0` when `theta`'s minimum
 /// lies within half a frame before it (the start is the turning point to the frame), else the
 /// first minimum the model passes in the next `window` frames.
-pub(super) fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f0: usize, window: usize, y0: &StateVec) -> (Initial, f64) {
+pub(super) fn start_at_turning_point(
+    model: &Model,
+    run: &RunOptions,
+    dt: f64,
+    f0: usize,
+    window: usize,
+    y0: &StateVec,
+) -> (Initial, f64) {
     let t0 = f0 as f64 * dt;
     let w = Vector3::new(y0[ix::W1], y0[ix::W2], y0[ix::W3]);
     let theta_ddot = model.dynamics(y0[ix::THETA], &w).omega_dot.x;
@@ -120,7 +150,12 @@ pub(super) fn start_at_turning_point(model: &Model, run: &RunOptions, dt: f64, f
     if (-0.5 * dt..=0.0).contains(&vertex) {
         return (Initial::from_state(y0), t0);
     }
-    let opts = RunOptions { t_end: t0 + window as f64 * dt, sample_dt: None, track_validity: false, ..run.clone() };
+    let opts = RunOptions {
+        t_end: t0 + window as f64 * dt,
+        sample_dt: None,
+        track_validity: false,
+        ..run.clone()
+    };
     if let Ok(sim) = Simulation::from_state(model.clone(), t0, *y0, opts) {
         let summary = sim.run(&mut |_| {});
         if let Some(p) = summary.turning_points.iter().find(|p| p.kind == TurnKind::ThetaMin) {

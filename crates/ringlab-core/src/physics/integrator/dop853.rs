@@ -191,7 +191,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let der2 = der2.sqrt() / h;
         let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / 8.0) };
+        let h1 =
+            if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / 8.0) };
         (100.0 * h).min(h1).min(self.h_max)
     }
 
@@ -222,8 +223,11 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             }
             last_nonfinite = false;
             if err <= 1.0 {
-                let mut factor =
-                    if err == 0.0 { MAX_FACTOR } else { (SAFETY * err.powf(ERROR_EXPONENT)).min(MAX_FACTOR) };
+                let mut factor = if err == 0.0 {
+                    MAX_FACTOR
+                } else {
+                    (SAFETY * err.powf(ERROR_EXPONENT)).min(MAX_FACTOR)
+                };
                 if rejected {
                     factor = factor.min(1.0);
                 }
@@ -445,7 +449,10 @@ mod tests {
             }
             assert!(s.t() < 1.0 + 1e-9, "stepped past the singularity to {}", s.t());
         };
-        assert!(matches!(err, IntegratorError::StepSizeTooSmall { .. } | IntegratorError::NonFinite { .. }));
+        assert!(matches!(
+            err,
+            IntegratorError::StepSizeTooSmall { .. } | IntegratorError::NonFinite { .. }
+        ));
         assert!(s.y()[0].is_finite(), "state left non-finite");
     }
 

@@ -4,7 +4,14 @@
 /// opposite signs (or one of them zero). Anderson-Bjorck regula falsi: it keeps a bracket and
 /// converges superlinearly on the smooth functions the interpolant gives. Stops when the
 /// bracket is below `t_tol` (or after 200 iterations) and returns its end with the smaller `|g|`.
-pub fn find_root(mut g: impl FnMut(f64) -> f64, a: f64, b: f64, ga: f64, gb: f64, t_tol: f64) -> f64 {
+pub fn find_root(
+    mut g: impl FnMut(f64) -> f64,
+    a: f64,
+    b: f64,
+    ga: f64,
+    gb: f64,
+    t_tol: f64,
+) -> f64 {
     if ga == 0.0 {
         return a;
     }

@@ -8,12 +8,16 @@ mod switch;
 use super::contact::Contact;
 use super::integrator::{IntegratorError, Stats, find_root};
 use super::model::{Initial, Model, StateVec, ix};
-use super::slip::{SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick_margin};
+use super::slip::{
+    SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick_margin,
+};
 use nalgebra::Vector3;
 use switch::Switch;
 
 pub use super::sample::Sample;
-pub use options::{DEFAULT_MU, DEFAULT_THETA_FLAT, EndReason, REST_KINETIC_FRACTION, RunError, RunOptions};
+pub use options::{
+    DEFAULT_MU, DEFAULT_THETA_FLAT, EndReason, REST_KINETIC_FRACTION, RunError, RunOptions,
+};
 
 /// Where `theta' = w1` vanishes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -156,7 +160,12 @@ impl Simulation {
     /// Starts a run from any rolling state (used to continue with changed parameters). With
     /// the slip effect on, a state where rolling needs more friction than `mu F_N` starts
     /// sliding.
-    pub fn from_state(model: Model, t0: f64, y0: StateVec, opts: RunOptions) -> Result<Simulation, RunError> {
+    pub fn from_state(
+        model: Model,
+        t0: f64,
+        y0: StateVec,
+        opts: RunOptions,
+    ) -> Result<Simulation, RunError> {
         opts.validate().map_err(RunError::Param)?;
         model.check_effects().map_err(RunError::Param)?;
         let slip_mu = model.effects.slip_mu;
@@ -184,7 +193,12 @@ impl Simulation {
 
     /// Starts a run from a sliding state `[phi, theta, psi, w1, w2, w3, x_C, y_C, vx_C, vy_C]`
     /// (`slip.rs`); needs the slip effect. Without slip it is the rolling start.
-    pub fn from_sliding_state(model: Model, t0: f64, y0: SlideVec, opts: RunOptions) -> Result<Simulation, RunError> {
+    pub fn from_sliding_state(
+        model: Model,
+        t0: f64,
+        y0: SlideVec,
+        opts: RunOptions,
+    ) -> Result<Simulation, RunError> {
         let Some(mu) = model.effects.slip_mu else {
             return Err(RunError::Unsupported("a sliding start needs the slip effect (slip_mu)"));
         };
@@ -199,8 +213,9 @@ impl Simulation {
         }
         opts.validate().map_err(RunError::Param)?;
         model.check_effects().map_err(RunError::Param)?;
-        let contact = Contact::sliding(SlidingModel::new(model, mu, v_s), t0, y0, opts.tol, opts.h_max)
-            .map_err(RunError::Integrator)?;
+        let contact =
+            Contact::sliding(SlidingModel::new(model, mu, v_s), t0, y0, opts.tol, opts.h_max)
+                .map_err(RunError::Integrator)?;
         Ok(Simulation::start(contact, t0, opts))
     }
 
@@ -282,7 +297,6 @@ impl Simulation {
         (s.f_n, self.opts.mu * s.f_n - s.f_1.hypot(s.f_f))
     }
 
-
     /// Integrates until `t >= t_stop` or the run ends; every sample on the grid
     /// `t0 + k dt` up to the last step goes to `sink`, and the end point too.
     /// Returns the end reason once the run has ended.
@@ -295,7 +309,12 @@ impl Simulation {
 
     /// As [`Self::advance`], stopping early (without an end) once the run has taken
     /// `max_steps` steps in all: a caller's budget (the run can go on with another call).
-    pub fn advance_limited(&mut self, t_stop: f64, max_steps: u64, sink: &mut impl FnMut(&Sample)) -> Option<EndReason> {
+    pub fn advance_limited(
+        &mut self,
+        t_stop: f64,
+        max_steps: u64,
+        sink: &mut impl FnMut(&Sample),
+    ) -> Option<EndReason> {
         while self.end.is_none() && self.contact.t() < t_stop && self.stats().steps < max_steps {
             self.one_step(sink);
         }
@@ -334,7 +353,13 @@ impl Simulation {
     }
 
     /// Locates a sign change of `g` over `[t_prev, b]` of the last step.
-    fn locate_in(&mut self, b: f64, mut g: impl FnMut(&mut Contact, f64) -> f64, g_old: f64, g_b: f64) -> f64 {
+    fn locate_in(
+        &mut self,
+        b: f64,
+        mut g: impl FnMut(&mut Contact, f64) -> f64,
+        g_old: f64,
+        g_b: f64,
+    ) -> f64 {
         let a = self.contact.t_prev();
         let tol = EVENT_T_TOL * b.abs().max(1.0);
         let contact = &mut self.contact;
@@ -385,15 +410,20 @@ impl Simulation {
             Some((TurnKind::ThetaMax, t, y)) if y[ix::THETA] >= flat => Some((t, y[ix::THETA])),
             _ => None,
         };
-        if let Some((b, th_b)) = peak.or((y_new[ix::THETA] >= flat).then_some((t_new, y_new[ix::THETA]))) {
-            let t = self.locate_in(b, |c, t| c.dense(t)[ix::THETA] - flat, th_old - flat, th_b - flat);
+        if let Some((b, th_b)) =
+            peak.or((y_new[ix::THETA] >= flat).then_some((t_new, y_new[ix::THETA])))
+        {
+            let t =
+                self.locate_in(b, |c, t| c.dense(t)[ix::THETA] - flat, th_old - flat, th_b - flat);
             earliest(&mut cut, EndReason::Flat, t);
         }
         let trough = match turn {
             Some((TurnKind::ThetaMin, t, y)) if y[ix::THETA] < 0.0 => Some((t, y[ix::THETA])),
             _ => None,
         };
-        if let Some((b, th_b)) = trough.or((y_new[ix::THETA] < 0.0).then_some((t_new, y_new[ix::THETA]))) {
+        if let Some((b, th_b)) =
+            trough.or((y_new[ix::THETA] < 0.0).then_some((t_new, y_new[ix::THETA])))
+        {
             let t = self.locate_in(b, |c, t| c.dense(t)[ix::THETA], th_old, th_b);
             earliest(&mut cut, EndReason::OtherRim, t);
         }
@@ -450,7 +480,8 @@ impl Simulation {
         }
 
         if let Some((reason, t)) = cut {
-            self.final_sample = if t == t_new { self.contact.sample_now() } else { self.contact.sample_at(t) };
+            self.final_sample =
+                if t == t_new { self.contact.sample_now() } else { self.contact.sample_at(t) };
             let on_grid = self.opts.sample_dt.is_some_and(|dt| {
                 let k = ((t - self.t0) / dt).round();
                 (self.t0 + k * dt - t).abs() <= 1e-12 * t.abs().max(1.0)
@@ -464,10 +495,6 @@ impl Simulation {
 
         self.follow_slip();
     }
-
-
-
-
 
     /// Lift-off (`F_N <= 0`) and, in pure rolling, would-slip (`|F_t| > mu F_N`) intervals
     /// over the last step up to `b`, keeping those that start before `t_cut`.
@@ -498,7 +525,11 @@ impl Simulation {
 }
 
 /// Runs a model from an initial state to its end, collecting samples every `opts.sample_dt`.
-pub fn simulate(model: Model, initial: &Initial, opts: RunOptions) -> Result<(RunSummary, Vec<Sample>), RunError> {
+pub fn simulate(
+    model: Model,
+    initial: &Initial,
+    opts: RunOptions,
+) -> Result<(RunSummary, Vec<Sample>), RunError> {
     let sim = Simulation::new(model, initial, opts)?;
     let mut samples = Vec::new();
     let summary = sim.run(&mut |s| samples.push(*s));

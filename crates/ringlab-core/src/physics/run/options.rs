@@ -51,7 +51,11 @@ impl RunOptions {
         check_positive("rtol", self.tol.rtol)?;
         check_positive("atol", self.tol.atol)?;
         if self.tol.rtol >= 1.0 {
-            return Err(ParamError { name: "rtol", value: self.tol.rtol, reason: "must be below 1" });
+            return Err(ParamError {
+                name: "rtol",
+                value: self.tol.rtol,
+                reason: "must be below 1",
+            });
         }
         check_finite("theta_flat", self.theta_flat)?;
         if !(self.theta_flat > 0.0 && self.theta_flat < FRAC_PI_2) {
@@ -69,7 +73,11 @@ impl RunOptions {
             check_positive("dt", dt)?;
         }
         if !(self.h_max > 0.0) {
-            return Err(ParamError { name: "h_max", value: self.h_max, reason: "must be greater than zero" });
+            return Err(ParamError {
+                name: "h_max",
+                value: self.h_max,
+                reason: "must be greater than zero",
+            });
         }
         Ok(())
     }

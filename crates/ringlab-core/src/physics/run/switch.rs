@@ -4,11 +4,12 @@
 //! dense output, like the turning points; the run restarts the stepper at it.
 
 use super::super::contact::Contact;
+use super::super::integrator::IntegratorError;
 use super::super::slip::{
-    REFERENCE_FREE_SPEEDS, SlidingModel, onset_direction, sliding_state, slip_velocity, stick, stick_margin,
+    REFERENCE_FREE_SPEEDS, SlidingModel, onset_direction, sliding_state, slip_velocity, stick,
+    stick_margin,
 };
 use super::{EVENT_T_TOL, EndReason, Sample, Simulation, add_stats};
-use super::super::integrator::IntegratorError;
 
 /// What happens at a switch found inside a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,7 +104,10 @@ impl Simulation {
             if m_new > 0.0 {
                 return None;
             }
-            Some((self.locate_in(t_new, |c, t| c.slip_along_reference(t), m_old, m_new), Switch::Contact))
+            Some((
+                self.locate_in(t_new, |c, t| c.slip_along_reference(t), m_old, m_new),
+                Switch::Contact,
+            ))
         }
     }
 
@@ -127,7 +131,12 @@ impl Simulation {
 
     /// Puts the new contact in place at `t` (the old one's work counted), or ends the run
     /// there when it could not be started. False when the run ended.
-    fn install(&mut self, next: Result<Contact, IntegratorError>, t: f64, sink: &mut impl FnMut(&Sample)) -> bool {
+    fn install(
+        &mut self,
+        next: Result<Contact, IntegratorError>,
+        t: f64,
+        sink: &mut impl FnMut(&Sample),
+    ) -> bool {
         let done = self.contact.stats();
         match next {
             Ok(c) => {

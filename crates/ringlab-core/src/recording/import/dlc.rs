@@ -29,8 +29,13 @@ pub fn read(path: &Path, bytes: &[u8], min_likelihood: f64) -> Result<PointTrack
         }
     }
     let find = |key: &str| header.iter().find(|r| r.cell(0).eq_ignore_ascii_case(key)).copied();
-    let (Some(scorer), Some(parts), Some(coords)) = (find("scorer"), find("bodyparts"), find("coords")) else {
-        return Err(not_dlc(rows.first(), "the header rows 'scorer', 'bodyparts' and 'coords' are needed".into()));
+    let (Some(scorer), Some(parts), Some(coords)) =
+        (find("scorer"), find("bodyparts"), find("coords"))
+    else {
+        return Err(not_dlc(
+            rows.first(),
+            "the header rows 'scorer', 'bodyparts' and 'coords' are needed".into(),
+        ));
     };
     let individuals = find("individuals");
     if scorer.line != rows[0].line {
@@ -43,12 +48,20 @@ pub fn read(path: &Path, bytes: &[u8], min_likelihood: f64) -> Result<PointTrack
     while c < width {
         let names: Vec<&str> = (0..3).map(|k| coords.cell(c + k)).collect();
         if names != ["x", "y", "likelihood"] {
-            let what = format!("columns {} to {} of 'coords' are '{}', expected 'x, y, likelihood'", c + 1, c + 3, names.join(", "));
+            let what = format!(
+                "columns {} to {} of 'coords' are '{}', expected 'x, y, likelihood'",
+                c + 1,
+                c + 3,
+                names.join(", ")
+            );
             return Err(not_dlc(Some(coords), what));
         }
         let part = parts.cell(c);
         if part.is_empty() || (1..3).any(|k| parts.cell(c + k) != part) {
-            return Err(not_dlc(Some(parts), format!("column {}: the bodypart name must head its x, y and likelihood", c + 1)));
+            return Err(not_dlc(
+                Some(parts),
+                format!("column {}: the bodypart name must head its x, y and likelihood", c + 1),
+            ));
         }
         let name = match individuals.map(|r| r.cell(c)) {
             Some(ind) if !ind.is_empty() => format!("{ind}/{part}"),
@@ -83,13 +96,15 @@ pub fn read(path: &Path, bytes: &[u8], min_likelihood: f64) -> Result<PointTrack
         }
         let frame = table::frame(row.cell(0)).map_err(|k| err(Some(row.line), k))?;
         if let Some(first) = seen.insert(frame, row.line) {
-            let kind = ImportErrorKind::DuplicatePoint { name: "frame".into(), frame, first_line: first };
+            let kind =
+                ImportErrorKind::DuplicatePoint { name: "frame".into(), frame, first_line: first };
             return Err(err(Some(row.line), kind));
         }
         for (k, (name, cols)) in points.iter().enumerate() {
             let at = |e| err(Some(row.line), e);
             let p = table::point(name, row.cell(cols[0]), row.cell(cols[1])).map_err(at)?;
-            let likelihood = table::number(&format!("{name} likelihood"), row.cell(cols[2])).map_err(at)?;
+            let likelihood =
+                table::number(&format!("{name} likelihood"), row.cell(cols[2])).map_err(at)?;
             match (p, likelihood) {
                 (None, _) => out.blank += 1,
                 (Some(_), Some(l)) if l < min_likelihood => out.low_likelihood += 1,
@@ -100,7 +115,10 @@ pub fn read(path: &Path, bytes: &[u8], min_likelihood: f64) -> Result<PointTrack
         }
     }
     if out.low_likelihood > 0 {
-        out.notes.push(format!("{} points below likelihood {min_likelihood} dropped as missing marks", out.low_likelihood));
+        out.notes.push(format!(
+            "{} points below likelihood {min_likelihood} dropped as missing marks",
+            out.low_likelihood
+        ));
     }
     Ok(out)
 }

@@ -11,16 +11,16 @@ pub mod dlc;
 pub mod plain;
 pub mod points;
 pub mod table;
-pub mod trackmate;
 pub mod tracker;
+pub mod trackmate;
 pub mod trk;
 pub mod unit;
 
 pub use points::PointTracks;
 pub use unit::LengthUnit;
 
-use super::read::{MAGIC, ReadError, ReadErrorKind, parse_recording};
 use super::Recording;
+use super::read::{MAGIC, ReadError, ReadErrorKind, parse_recording};
 use crate::physics::Shape;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -60,7 +60,9 @@ impl Source {
         let first = lines.next().unwrap_or("").trim();
         let second = lines.next().unwrap_or("").trim();
         let cells = |l: &str| -> Vec<String> {
-            l.split(table::delimiter_of(l) as char).map(|c| c.trim().trim_matches('"').to_string()).collect()
+            l.split(table::delimiter_of(l) as char)
+                .map(|c| c.trim().trim_matches('"').to_string())
+                .collect()
         };
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         let second = cells(second);
@@ -70,11 +72,17 @@ impl Source {
             && second.iter().any(|h| h == "y");
         if first.starts_with(MAGIC.trim_end_matches(" v1")) {
             Some(Source::Ringlab)
-        } else if ext.as_deref() == Some("trk") || first.starts_with("<?xml") || first.starts_with("<object") {
+        } else if ext.as_deref() == Some("trk")
+            || first.starts_with("<?xml")
+            || first.starts_with("<object")
+        {
             Some(Source::TrackerProject)
         } else if cells(first).first().is_some_and(|c| c.eq_ignore_ascii_case("scorer")) {
             Some(Source::Dlc)
-        } else if ["TRACK_ID", "FRAME", "POSITION_X", "POSITION_Y"].iter().all(|k| cells(first).iter().any(|c| c == k)) {
+        } else if ["TRACK_ID", "FRAME", "POSITION_X", "POSITION_Y"]
+            .iter()
+            .all(|k| cells(first).iter().any(|c| c == k))
+        {
             Some(Source::TrackMate)
         } else if tracker_table {
             Some(Source::TrackerTable)
@@ -212,7 +220,10 @@ pub enum ImportErrorKind {
     Xml(String),
     #[error("not a {format}: {what}")]
     NotThisFormat { format: &'static str, what: String },
-    #[error("cannot tell what this file is (not ringlab v1, DeepLabCut, Tracker or TrackMate): name its format with --from {}", Format::NAMES)]
+    #[error(
+        "cannot tell what this file is (not ringlab v1, DeepLabCut, Tracker or TrackMate): name its format with --from {}",
+        Format::NAMES
+    )]
     UnknownFormat,
     #[error("{what} reads {expected}, got {got} files")]
     FileCount { what: &'static str, expected: &'static str, got: usize },
@@ -228,7 +239,9 @@ pub enum ImportErrorKind {
     HalfPoint { what: String },
     #[error("'{name}' is given twice in frame {frame} (first on line {first_line})")]
     DuplicatePoint { name: String, frame: i64, first_line: usize },
-    #[error("time {t} s is not on the frame grid of {fps} frames/s (frame {frames:.3}); give --fps")]
+    #[error(
+        "time {t} s is not on the frame grid of {fps} frames/s (frame {frames:.3}); give --fps"
+    )]
     OffGrid { t: f64, fps: f64, frames: f64 },
     #[error("--marks: '{name}' is not in the file (it has: {available})")]
     UnknownMark { name: String, available: String },
@@ -244,7 +257,9 @@ pub enum ImportErrorKind {
     MissingFps,
     #[error("the scale is not in the file (positions are pixels): give --px-per-mm")]
     MissingScale,
-    #[error("the body is not in the file: give --preset NAME, or --shape, --outer-radius-mm, --width-mm (and --thickness-mm for a ring)")]
+    #[error(
+        "the body is not in the file: give --preset NAME, or --shape, --outer-radius-mm, --width-mm (and --thickness-mm for a ring)"
+    )]
     MissingBody,
     #[error("{0}")]
     MissingUnit(String),
@@ -252,7 +267,9 @@ pub enum ImportErrorKind {
     UnitConflict { file: String, given: String },
     #[error("{0}")]
     BadOption(String),
-    #[error("fewer than two usable frames ({usable}): a frame is usable when marks 1 and 3, or 2 and 4, are both found")]
+    #[error(
+        "fewer than two usable frames ({usable}): a frame is usable when marks 1 and 3, or 2 and 4, are both found"
+    )]
     TooFewUsableFrames { usable: usize },
     #[error("{0}")]
     Recording(ReadErrorKind),
@@ -295,13 +312,18 @@ impl From<ReadError> for ImportError {
 }
 
 /// Reads the files as one recording: format v1 as it is, every other format through its reader and [`points::assemble`].
-pub fn import(paths: &[PathBuf], from: Option<Format>, opts: &ImportOptions) -> Result<Imported, ImportError> {
+pub fn import(
+    paths: &[PathBuf],
+    from: Option<Format>,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
     let first = paths.first().ok_or_else(|| {
         ImportError::new(Path::new("-"), None, ImportErrorKind::BadOption("no file given".into()))
     })?;
     let mut files = Vec::with_capacity(paths.len());
     for p in paths {
-        let bytes = std::fs::read(p).map_err(|e| ImportError::new(p, None, ImportErrorKind::Io(e.to_string())))?;
+        let bytes = std::fs::read(p)
+            .map_err(|e| ImportError::new(p, None, ImportErrorKind::Io(e.to_string())))?;
         if bytes.iter().all(u8::is_ascii_whitespace) {
             return Err(ImportError::new(p, None, ImportErrorKind::Empty));
         }
@@ -322,7 +344,11 @@ pub fn import(paths: &[PathBuf], from: Option<Format>, opts: &ImportOptions) -> 
         if files.len() == 1 {
             Ok(())
         } else {
-            Err(ImportError::new(first, None, ImportErrorKind::FileCount { what, expected: "one file", got: files.len() }))
+            Err(ImportError::new(
+                first,
+                None,
+                ImportErrorKind::FileCount { what, expected: "one file", got: files.len() },
+            ))
         }
     };
     let tracks = match source {
@@ -370,7 +396,11 @@ fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Impor
     let recording = parse_recording(bytes, path)?;
     let mut notes = Vec::new();
     if !set.is_empty() {
-        notes.push(format!("{}: a ringlab v1 recording, read by its own header (the given {} not applied)", path.display(), set.join(", ")));
+        notes.push(format!(
+            "{}: a ringlab v1 recording, read by its own header (the given {} not applied)",
+            path.display(),
+            set.join(", ")
+        ));
     }
     let report = ImportReport {
         source: Source::Ringlab,

@@ -34,7 +34,11 @@ pub struct PointTracks {
 }
 
 impl PointTracks {
-    pub fn new(unit: Option<LengthUnit>, unit_default: Option<LengthUnit>, y_up: bool) -> PointTracks {
+    pub fn new(
+        unit: Option<LengthUnit>,
+        unit_default: Option<LengthUnit>,
+        y_up: bool,
+    ) -> PointTracks {
         PointTracks {
             tracks: Vec::new(),
             unit,
@@ -69,7 +73,12 @@ const MARGIN_PX: f64 = 50.0;
 const MAX_FRAMES: i64 = 20_000_000;
 
 /// The four marks picked, converted to pixels (y down) and framed as format v1.
-pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &ImportOptions) -> Result<Imported, ImportError> {
+pub fn assemble(
+    t: PointTracks,
+    source: Source,
+    files: &[PathBuf],
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
     let path = files.first().map_or(Path::new("-"), |p| p.as_path());
     let err = |kind| ImportError::new(path, None, kind);
     let mut notes = t.notes.clone();
@@ -77,11 +86,16 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
 
     let fps = opts.fps.or(t.fps).ok_or(err(ImportErrorKind::MissingFps))?;
     if !(fps.is_finite() && fps > 0.0) {
-        return Err(err(ImportErrorKind::BadOption(format!("--fps = {fps}: must be a positive number"))));
+        return Err(err(ImportErrorKind::BadOption(format!(
+            "--fps = {fps}: must be a positive number"
+        ))));
     }
     let unit = match (t.unit, opts.unit) {
         (Some(f), Some(g)) if f != g => {
-            return Err(err(ImportErrorKind::UnitConflict { file: f.name().into(), given: g.name().into() }));
+            return Err(err(ImportErrorKind::UnitConflict {
+                file: f.name().into(),
+                given: g.name().into(),
+            }));
         }
         (Some(f), _) => f,
         (None, Some(g)) => g,
@@ -108,7 +122,9 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
         }
     };
     if !(px_per_mm.is_finite() && px_per_mm > 0.0) {
-        return Err(err(ImportErrorKind::BadOption(format!("px per mm = {px_per_mm}: must be a positive number"))));
+        return Err(err(ImportErrorKind::BadOption(format!(
+            "px per mm = {px_per_mm}: must be a positive number"
+        ))));
     }
     let body = opts.body.ok_or(err(ImportErrorKind::MissingBody))?;
 
@@ -119,7 +135,9 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
         return Err(err(ImportErrorKind::TooFewUsableFrames { usable: 0 }));
     };
     if last - first > MAX_FRAMES {
-        let msg = format!("frames {first} to {last} span more than {MAX_FRAMES} frames: is the frame column right?");
+        let msg = format!(
+            "frames {first} to {last} span more than {MAX_FRAMES} frames: is the frame column right?"
+        );
         return Err(err(ImportErrorKind::BadOption(msg)));
     }
     let sign_y = if t.y_up { -1.0 } else { 1.0 };
@@ -133,7 +151,11 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
         })
         .collect();
     // Calibrated or y-up positions have their origin anywhere: move them into the image.
-    let (lo_x, lo_y) = frames.iter().flatten().flatten().fold((f64::INFINITY, f64::INFINITY), |(a, b), p| (a.min(p[0]), b.min(p[1])));
+    let (lo_x, lo_y) = frames
+        .iter()
+        .flatten()
+        .flatten()
+        .fold((f64::INFINITY, f64::INFINITY), |(a, b), p| (a.min(p[0]), b.min(p[1])));
     if t.y_up || unit != LengthUnit::Px || lo_x < 0.0 || lo_y < 0.0 {
         for p in frames.iter_mut().flatten().flatten() {
             p[0] += MARGIN_PX - lo_x;
@@ -152,9 +174,17 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
         first as u64
     };
     let names: Vec<String> = marks.iter().map(|m| m.name.clone()).collect();
-    let clean = |s: &str| s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect::<String>();
-    let file_names: Vec<String> =
-        files.iter().map(|p| clean(&p.file_name().map_or(p.display().to_string(), |n| n.to_string_lossy().into_owned()))).collect();
+    let clean =
+        |s: &str| s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect::<String>();
+    let file_names: Vec<String> = files
+        .iter()
+        .map(|p| {
+            clean(
+                &p.file_name()
+                    .map_or(p.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            )
+        })
+        .collect();
     let header = Header {
         fps,
         px_per_mm,
@@ -171,7 +201,9 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
             ("imported_marks".into(), clean(&names.join(" | "))),
         ],
     };
-    header.body_mm().map_err(|e| err(ImportErrorKind::BadOption(format!("the body is impossible: {e}"))))?;
+    header
+        .body_mm()
+        .map_err(|e| err(ImportErrorKind::BadOption(format!("the body is impossible: {e}"))))?;
     let report = ImportReport {
         source,
         files: files.to_vec(),
@@ -184,20 +216,25 @@ pub fn assemble(t: PointTracks, source: Source, files: &[PathBuf], opts: &Import
 }
 
 /// Indices of the four tracks taken as marks 1 to 4.
-fn pick_marks(t: &PointTracks, opts: &ImportOptions, notes: &mut Vec<String>) -> Result<Vec<usize>, ImportErrorKind> {
+fn pick_marks(
+    t: &PointTracks,
+    opts: &ImportOptions,
+    notes: &mut Vec<String>,
+) -> Result<Vec<usize>, ImportErrorKind> {
     let available = || t.tracks.iter().map(|t| t.name.as_str()).collect::<Vec<_>>().join(", ");
     match &opts.marks {
         Some(names) => {
             if names.len() != MARKS {
-                return Err(ImportErrorKind::BadMarks(format!("give four names in cyclic order, got {}", names.len())));
+                return Err(ImportErrorKind::BadMarks(format!(
+                    "give four names in cyclic order, got {}",
+                    names.len()
+                )));
             }
             let mut out = Vec::with_capacity(MARKS);
             for name in names {
-                let i = t
-                    .tracks
-                    .iter()
-                    .position(|t| &t.name == name)
-                    .ok_or_else(|| ImportErrorKind::UnknownMark { name: name.clone(), available: available() })?;
+                let i = t.tracks.iter().position(|t| &t.name == name).ok_or_else(|| {
+                    ImportErrorKind::UnknownMark { name: name.clone(), available: available() }
+                })?;
                 if out.contains(&i) {
                     return Err(ImportErrorKind::BadMarks(format!("'{name}' is named twice")));
                 }
@@ -207,10 +244,17 @@ fn pick_marks(t: &PointTracks, opts: &ImportOptions, notes: &mut Vec<String>) ->
         }
         None => {
             if t.tracks.len() < MARKS {
-                return Err(ImportErrorKind::TooFewPoints { found: t.tracks.len(), names: available() });
+                return Err(ImportErrorKind::TooFewPoints {
+                    found: t.tracks.len(),
+                    names: available(),
+                });
             }
             if t.tracks.len() > MARKS {
-                notes.push(format!("{} points in the file ({}): the first four taken as marks (--marks to choose)", t.tracks.len(), available()));
+                notes.push(format!(
+                    "{} points in the file ({}): the first four taken as marks (--marks to choose)",
+                    t.tracks.len(),
+                    available()
+                ));
             }
             Ok((0..MARKS).collect())
         }
@@ -219,13 +263,20 @@ fn pick_marks(t: &PointTracks, opts: &ImportOptions, notes: &mut Vec<String>) ->
 
 /// Marks in cyclic order make a quadrilateral whose diagonals 1-3 and 2-4 cross; in any other
 /// order they do not. Judged on frames where the quadrilateral is not seen edge-on.
-fn check_cyclic(frames: &[FrameMarks], t: &PointTracks, picked: &[usize]) -> Result<(), ImportErrorKind> {
+fn check_cyclic(
+    frames: &[FrameMarks],
+    t: &PointTracks,
+    picked: &[usize],
+) -> Result<(), ImportErrorKind> {
     const ORDERS: [[usize; 4]; 3] = [[0, 1, 2, 3], [0, 2, 1, 3], [0, 1, 3, 2]];
     let mut crossing = [0usize; 3];
     let mut judged = 0usize;
     for f in frames {
         let Some(p) = f.iter().copied().collect::<Option<Vec<[f64; 2]>>>() else { continue };
-        let scale = (0..4).flat_map(|i| (0..4).map(move |j| (i, j))).map(|(i, j)| dist2(p[i], p[j])).fold(0.0, f64::max);
+        let scale = (0..4)
+            .flat_map(|i| (0..4).map(move |j| (i, j)))
+            .map(|(i, j)| dist2(p[i], p[j]))
+            .fold(0.0, f64::max);
         if scale <= 0.0 {
             continue;
         }
@@ -265,5 +316,6 @@ fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 
 /// Whether segment 1-3 crosses segment 2-4.
 fn diagonals_cross(p1: [f64; 2], p2: [f64; 2], p3: [f64; 2], p4: [f64; 2]) -> bool {
-    orient(p1, p3, p2).signum() != orient(p1, p3, p4).signum() && orient(p2, p4, p1).signum() != orient(p2, p4, p3).signum()
+    orient(p1, p3, p2).signum() != orient(p1, p3, p4).signum()
+        && orient(p2, p4, p1).signum() != orient(p2, p4, p3).signum()
 }

@@ -101,7 +101,11 @@ pub fn clip(s: &str) -> String {
 
 /// Where the named column is (exact name first, then ignoring case).
 pub fn column(header: &Row, name: &str) -> Option<usize> {
-    header.cells.iter().position(|c| c == name).or_else(|| header.cells.iter().position(|c| c.eq_ignore_ascii_case(name)))
+    header
+        .cells
+        .iter()
+        .position(|c| c == name)
+        .or_else(|| header.cells.iter().position(|c| c.eq_ignore_ascii_case(name)))
 }
 
 /// The header's columns, for an error.

@@ -10,7 +10,10 @@ use std::path::{Path, PathBuf};
 
 const FORMAT: &str = "Tracker data table";
 
-pub fn read(files: &[(PathBuf, Vec<u8>)], opts: &ImportOptions) -> Result<PointTracks, ImportError> {
+pub fn read(
+    files: &[(PathBuf, Vec<u8>)],
+    opts: &ImportOptions,
+) -> Result<PointTracks, ImportError> {
     let mut out = PointTracks::new(None, None, true);
     // (track, time, position, file, line) for every row, framed once the rate is known.
     let mut rows: Vec<(usize, f64, Option<[f64; 2]>, usize, usize)> = Vec::new();
@@ -29,8 +32,10 @@ pub fn read(files: &[(PathBuf, Vec<u8>)], opts: &ImportOptions) -> Result<PointT
     let fps = match opts.fps {
         Some(fps) => fps,
         None => {
-            let fps = fps_from_times(&times).ok_or_else(|| ImportError::new(&files[0].0, None, ImportErrorKind::MissingFps))?;
-            out.notes.push(format!("frame rate {fps:.6} frames/s from the times (--fps to set it)"));
+            let fps = fps_from_times(&times)
+                .ok_or_else(|| ImportError::new(&files[0].0, None, ImportErrorKind::MissingFps))?;
+            out.notes
+                .push(format!("frame rate {fps:.6} frames/s from the times (--fps to set it)"));
             fps
         }
     };
@@ -41,11 +46,19 @@ pub fn read(files: &[(PathBuf, Vec<u8>)], opts: &ImportOptions) -> Result<PointT
         let frames = (t - t0) * fps;
         let frame = frames.round();
         if (frames - frame).abs() > 0.25 {
-            return Err(ImportError::new(path, Some(line), ImportErrorKind::OffGrid { t, fps, frames }));
+            return Err(ImportError::new(
+                path,
+                Some(line),
+                ImportErrorKind::OffGrid { t, fps, frames },
+            ));
         }
         let frame = frame as i64;
         if let Some(first) = first_line.insert((track, frame), line) {
-            let kind = ImportErrorKind::DuplicatePoint { name: out.tracks[track].name.clone(), frame, first_line: first };
+            let kind = ImportErrorKind::DuplicatePoint {
+                name: out.tracks[track].name.clone(),
+                frame,
+                first_line: first,
+            };
             return Err(ImportError::new(path, Some(line), kind));
         }
         match p {
@@ -59,21 +72,34 @@ pub fn read(files: &[(PathBuf, Vec<u8>)], opts: &ImportOptions) -> Result<PointT
 }
 
 /// The point mass's name and its rows `(t, position, line)`.
-fn read_one(path: &Path, bytes: &[u8]) -> Result<(String, Vec<(f64, Option<[f64; 2]>, usize)>), ImportError> {
+fn read_one(
+    path: &Path,
+    bytes: &[u8],
+) -> Result<(String, Vec<(f64, Option<[f64; 2]>, usize)>), ImportError> {
     let err = |line, kind| ImportError::new(path, line, kind);
     let text = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]).into_owned();
     let second = text.lines().nth(1).unwrap_or("");
     let rows = table::rows(path, bytes, table::delimiter_of(second))?;
-    let not_table = |line, what: &str| err(line, ImportErrorKind::NotThisFormat { format: FORMAT, what: what.into() });
+    let not_table = |line, what: &str| {
+        err(line, ImportErrorKind::NotThisFormat { format: FORMAT, what: what.into() })
+    };
     let Some(name_row) = rows.first() else { return Err(err(None, ImportErrorKind::Empty)) };
     let name = name_row.cells.join(" ").trim().to_string();
     if name.is_empty() || name_row.line != 1 {
         return Err(not_table(Some(1), "line 1 must name the point mass"));
     }
-    let Some(headings) = rows.get(1) else { return Err(not_table(None, "no column headings on line 2")) };
+    let Some(headings) = rows.get(1) else {
+        return Err(not_table(None, "no column headings on line 2"));
+    };
     let col = |h: &str| {
         table::column(headings, h).ok_or_else(|| {
-            err(Some(headings.line), ImportErrorKind::MissingColumn { name: h.into(), available: table::listed(headings) })
+            err(
+                Some(headings.line),
+                ImportErrorKind::MissingColumn {
+                    name: h.into(),
+                    available: table::listed(headings),
+                },
+            )
         })
     };
     let (ct, cx, cy) = (col("t")?, col("x")?, col("y")?);

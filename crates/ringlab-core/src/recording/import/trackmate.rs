@@ -21,27 +21,52 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<PointTracks, ImportError> {
     let mut col = [0usize; 4];
     for (k, key) in KEYS.iter().enumerate() {
         col[k] = keys.cells.iter().position(|c| c == key).ok_or_else(|| {
-            err(Some(keys.line), ImportErrorKind::MissingColumn { name: key.to_string(), available: table::listed(keys) })
+            err(
+                Some(keys.line),
+                ImportErrorKind::MissingColumn {
+                    name: key.to_string(),
+                    available: table::listed(keys),
+                },
+            )
         })?;
     }
     let t_col = keys.cells.iter().position(|c| c == "POSITION_T");
     // Header rows end at the first row whose FRAME is a number.
-    let data_start = rows.iter().skip(1).position(|r| table::frame(r.cell(col[1])).is_ok()).map_or(rows.len(), |i| i + 1);
+    let data_start = rows
+        .iter()
+        .skip(1)
+        .position(|r| table::frame(r.cell(col[1])).is_ok())
+        .map_or(rows.len(), |i| i + 1);
     if data_start > 4 {
-        let what = format!("{} header rows before the first spot (at most 4: keys, names, short names, units)", data_start);
-        return Err(err(Some(rows[data_start.min(rows.len() - 1)].line), ImportErrorKind::NotThisFormat { format: FORMAT, what }));
+        let what = format!(
+            "{} header rows before the first spot (at most 4: keys, names, short names, units)",
+            data_start
+        );
+        return Err(err(
+            Some(rows[data_start.min(rows.len() - 1)].line),
+            ImportErrorKind::NotThisFormat { format: FORMAT, what },
+        ));
     }
-    let units_row: Option<&Row> = rows[1..data_start].iter().find(|r| r.cell(col[2]).starts_with('('));
+    let units_row: Option<&Row> =
+        rows[1..data_start].iter().find(|r| r.cell(col[2]).starts_with('('));
     let unit = match units_row {
         Some(r) => {
             let u = r.cell(col[2]);
             Some(LengthUnit::parse(u).ok_or_else(|| {
-                err(Some(r.line), ImportErrorKind::MissingUnit(format!("POSITION_X's unit {u} is not one of {}", LengthUnit::NAMES)))
+                err(
+                    Some(r.line),
+                    ImportErrorKind::MissingUnit(format!(
+                        "POSITION_X's unit {u} is not one of {}",
+                        LengthUnit::NAMES
+                    )),
+                )
             })?)
         }
         None => None,
     };
-    let t_unit = units_row.zip(t_col).map(|(r, c)| r.cell(c).trim_matches(|c| c == '(' || c == ')').to_ascii_lowercase());
+    let t_unit = units_row
+        .zip(t_col)
+        .map(|(r, c)| r.cell(c).trim_matches(|c| c == '(' || c == ')').to_ascii_lowercase());
 
     let mut out = PointTracks::new(unit, Some(LengthUnit::Px), false);
     if unit.is_none() {
@@ -56,17 +81,22 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<PointTracks, ImportError> {
         let id = row.cell(col[0]);
         let frame = table::frame(row.cell(col[1])).map_err(at)?;
         let Some(p) = table::point("spot", row.cell(col[2]), row.cell(col[3])).map_err(at)? else {
-            return Err(at(ImportErrorKind::HalfPoint { what: "a spot without a position".into() }));
+            return Err(at(ImportErrorKind::HalfPoint {
+                what: "a spot without a position".into(),
+            }));
         };
         if id.is_empty() || id.eq_ignore_ascii_case("none") {
             untracked += 1;
             continue;
         }
-        let order = table::frame(id).map_err(|_| at(ImportErrorKind::NotNumeric { what: "TRACK_ID".into(), value: table::clip(id) }))?;
+        let order = table::frame(id).map_err(|_| {
+            at(ImportErrorKind::NotNumeric { what: "TRACK_ID".into(), value: table::clip(id) })
+        })?;
         if !ids.iter().any(|(n, _)| n == id) {
             ids.push((id.to_string(), order));
         }
-        if let Some(t) = t_col.and_then(|c| table::number("POSITION_T", row.cell(c)).ok().flatten()) {
+        if let Some(t) = t_col.and_then(|c| table::number("POSITION_T", row.cell(c)).ok().flatten())
+        {
             times.push((frame, t));
         }
         spots.push((id.to_string(), frame, p, row.line));
@@ -79,7 +109,14 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<PointTracks, ImportError> {
     let mut first_line: HashMap<(String, i64), usize> = HashMap::new();
     for (id, frame, p, line) in spots {
         if let Some(first) = first_line.insert((id.clone(), frame), line) {
-            return Err(err(Some(line), ImportErrorKind::DuplicatePoint { name: format!("track {id}"), frame, first_line: first }));
+            return Err(err(
+                Some(line),
+                ImportErrorKind::DuplicatePoint {
+                    name: format!("track {id}"),
+                    frame,
+                    first_line: first,
+                },
+            ));
         }
         out.track_mut(&id).points.insert(frame, p);
     }

@@ -5,7 +5,10 @@
 pub enum LengthUnit {
     Px,
     /// A length: this many mm per unit.
-    Length { mm: f64, name: &'static str },
+    Length {
+        mm: f64,
+        name: &'static str,
+    },
 }
 
 impl LengthUnit {
@@ -18,7 +21,9 @@ impl LengthUnit {
         let length = |mm, name| Some(LengthUnit::Length { mm, name });
         match s.as_str() {
             "px" | "pixel" | "pixels" => Some(LengthUnit::Px),
-            "um" | "µm" | "μm" | "micron" | "microns" | "micrometer" | "micrometre" => length(1e-3, "um"),
+            "um" | "µm" | "μm" | "micron" | "microns" | "micrometer" | "micrometre" => {
+                length(1e-3, "um")
+            }
             "mm" | "millimeter" | "millimetre" => length(1.0, "mm"),
             "cm" | "centimeter" | "centimetre" => length(10.0, "cm"),
             "m" | "meter" | "metre" => length(1000.0, "m"),
