@@ -76,7 +76,6 @@ fn the_file_menu_has_the_classroom_entries() {
         "Save picture of the window… F12",
         "Save picture of the 3D view… Shift+F12",
         "Export video…",
-        "View",
     ] {
         assert!(h.query_by_label(entry).is_some(), "File > {entry} is missing");
     }
@@ -178,15 +177,13 @@ fn f11_and_the_view_menu_switch_presentation_mode_and_the_side_panel_folds() {
     h.key_press(Key::F11);
     h.run_steps(2);
     assert!(!h.state().presenting());
-    // File > View > Presentation.
-    h.get_by_label("File").click();
-    h.run_steps(2);
-    h.get_by_label("View").hover();
+    // View > Presentation.
+    h.get_by_label("View").click();
     h.run_steps(2);
     h.get_by_label("Presentation F11").click();
     h.run_steps(2);
     assert!(h.state().presenting());
-    // In presentation mode View is a menu of its own.
+    // And back, by the same menu.
     h.get_by_label("View").click();
     h.run_steps(2);
     h.get_by_label("Leave presentation F11").click();

@@ -260,13 +260,13 @@ fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
     let case = args.case.case()?;
     let mut source = frame_source(&gpu, args, Some(spec.to * case.units.time_s))?;
     let frames = spec.frame_times(source.time_unit_s()).map_err(anyhow::Error::msg)?.len();
-    let bar = indicatif::ProgressBar::new(frames as u64);
+    let bar = super::progress::LateBar::new(super::progress::COUNT_TEMPLATE);
     let report = write_video(&gpu, &mut source, &spec, size, path, &mut |done, _| {
-        bar.set_position(done as u64);
+        bar.update(done as u64, frames as u64, "frames".into());
         true
     })
     .with_context(|| format!("--video {}", path.display()))?;
-    bar.finish_and_clear();
+    bar.finish();
     let seconds = report.seconds;
     println!(
         "wrote {} ({} frames of {}x{}, {} to {} at {} frames/s and {}x real time: {:.1} s of video; {} at {:.1} kB; {:.1} s, {:.0} ms a frame, {})",

@@ -1,6 +1,7 @@
 //! `ringlab sweep`: the drag grid, classified run by run.
 
 use super::case_args::CaseArgs;
+use super::progress::{COUNT_TEMPLATE, LateBar, with_threads};
 use super::shard::{Shard, read_tables, write_table};
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -78,7 +79,6 @@ pub fn run(args: &SweepArgs) -> Result<()> {
         axes.push(axis);
     }
     let axes = [axes[0], axes[1], axes[2]];
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build()?;
     let opts =
         RunOptions { tol: Tolerances { rtol: args.sweep_rtol, atol: 1e-10 }, ..case.opts.clone() };
     let all = grid(axes);
@@ -86,15 +86,15 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let points: Vec<[f64; 3]> = indices.iter().map(|&i| all[i]).collect();
     let total = points.len();
     let clock = Instant::now();
-    let rows = pool.install(|| {
-        run_sweep_points(&case.model, &case.initial, &opts, &points, &|done| {
-            if done % 1024 == 0 || done == total {
-                eprint!("\r{done}/{total} runs");
-            }
-        })
-    });
+    let bar = LateBar::new(COUNT_TEMPLATE);
+    let (rows, threads) = with_threads(args.threads, || {
+        let rows = run_sweep_points(&case.model, &case.initial, &opts, &points, &|done| {
+            bar.update(done as u64, total as u64, "runs".into())
+        });
+        (rows, rayon::current_num_threads())
+    })?;
+    bar.finish();
     let secs = clock.elapsed().as_secs_f64();
-    eprintln!();
     let file = std::fs::File::create(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut w = std::io::BufWriter::new(file);
@@ -103,7 +103,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let retro = rows.iter().filter(|r| r.retrograde_turn).count();
     println!(
         "{total} runs in {secs:.2} s on {} threads ({:.2} ms per run); {retro} make the retrograde turn; written to {}",
-        pool.current_num_threads(),
+        threads,
         secs * 1e3 / total as f64,
         args.out.display()
     );

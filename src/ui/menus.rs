@@ -1,6 +1,5 @@
-//! The menus of the top bar: File (the recording, the case, the exports, and View inside it in
-//! the ordinary window, where a menu of its own would move the whole bar) and, in presentation
-//! mode, View beside it.
+//! The menus of the top bar: File (the recording, the case, the exports) and View (presentation
+//! mode, the UI's zoom).
 
 use super::presentation::Zoom;
 use super::recording_panel::RecordingAction;
@@ -43,12 +42,11 @@ fn item(
     }
 }
 
-/// The File menu; `presenting`: View has a menu of its own beside it.
+/// The File menu.
 pub fn file_menu_ui(
     ui: &mut egui::Ui,
     recording: &RecordingSession,
     exports: &ExportSession,
-    presenting: bool,
 ) -> MenuAction {
     let mut a = MenuAction::None;
     ui.menu_button("File", |ui| {
@@ -66,18 +64,14 @@ pub fn file_menu_ui(
         item(ui, idle, "Save picture of the window…", "F12", "a PNG of the window as it is (F12 saves one at once, without asking where)", picture(PictureKind::Window), &mut a);
         item(ui, idle, "Save picture of the 3D view…", "Shift+F12", "a PNG of the 3D view alone, every pixel drawn (Shift+F12: at once)", picture(PictureKind::View3d), &mut a);
         item(ui, idle, "Export video…", "", "the run as a GIF or an MP4: the 3D view, the trace or the window", MenuAction::VideoDialog, &mut a);
-        if !presenting {
-            ui.separator();
-            ui.menu_button("View", |ui| a = view_items_ui(ui, false).unwrap_or(a));
-        }
     });
     a
 }
 
-/// The View menu of presentation mode.
-pub fn view_menu_ui(ui: &mut egui::Ui) -> MenuAction {
+/// The View menu (presentation mode, zoom); `presenting`: in presentation mode now.
+pub fn view_menu_ui(ui: &mut egui::Ui, presenting: bool) -> MenuAction {
     let mut a = MenuAction::None;
-    ui.menu_button("View", |ui| a = view_items_ui(ui, true).unwrap_or(MenuAction::None));
+    ui.menu_button("View", |ui| a = view_items_ui(ui, presenting).unwrap_or(MenuAction::None));
     a
 }
 

@@ -35,11 +35,11 @@ impl RinglabApp {
     fn menus_and_runs_ui(&mut self, ui: &mut egui::Ui) {
         ui.label(RichText::new("ringlab").strong().size(16.0));
         let presenting = self.presentation.on;
-        let action = menus::file_menu_ui(ui, &self.recording, &self.exports, presenting);
+        let action = menus::file_menu_ui(ui, &self.recording, &self.exports);
+        self.act_on_menu(action);
+        let action = menus::view_menu_ui(ui, presenting);
         self.act_on_menu(action);
         if presenting {
-            let action = menus::view_menu_ui(ui);
-            self.act_on_menu(action);
             let label = if self.presentation.side_open { "Hide parameters" } else { "Parameters" };
             if ui
                 .button(label)

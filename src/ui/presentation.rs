@@ -1,4 +1,4 @@
-//! Presentation mode (F11, File > View > Presentation): full screen, the UI scaled up (Ctrl +,
+//! Presentation mode (F11, View > Presentation): full screen, the UI scaled up (Ctrl +,
 //! Ctrl -, Ctrl 0; the scale of each mode kept in the settings), a light high-contrast theme for
 //! a projector with thick path lines, and the side panel folded away.
 

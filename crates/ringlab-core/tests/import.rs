@@ -440,7 +440,7 @@ fn trackmate_spots_out_of_order_are_imported_and_fit_the_truth() {
 }
 
 #[test]
-fn plain_csv_with_named_columns_in_mm_y_up_is_imported() {
+fn plain_csv_with_named_columns_in_mm_y_up_is_imported_and_fits_the_truth() {
     let rec = sample();
     let d = dir("plain");
     let mut s = String::from("# exported from a lab's own tracker\nt_s;ax;ay;bx;by;cx;cy;dx;dy\n");
@@ -473,6 +473,7 @@ fn plain_csv_with_named_columns_in_mm_y_up_is_imported() {
     let got = import(&[file], Some(Format::Csv), &o).expect("imports");
     assert!((got.recording.header.fps - FPS).abs() < 1e-3);
     assert_same_marks(&got, &rec, &|_, _| false, 0.01);
+    assert_fits_truth(&got.recording, "plain CSV");
 }
 
 /// Every format's malformed file names the file and the line.
