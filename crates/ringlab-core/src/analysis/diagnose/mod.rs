@@ -67,6 +67,7 @@ pub mod concealed;
 pub mod departure;
 pub mod explain;
 mod options;
+mod progress;
 pub mod residual;
 mod result;
 mod rules;

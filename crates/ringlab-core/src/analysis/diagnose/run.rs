@@ -3,7 +3,8 @@
 use super::candidates::{fit_baseline, fit_candidates, fit_pair, refit_from};
 use super::departure::{self, Departure};
 use super::explain::explain;
-use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage};
+use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
+use super::progress::Reporter;
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
 use super::result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
@@ -22,13 +23,8 @@ use crate::physics::effects::EffectKind;
 use crate::recording::tracks::{CheckedTracks, check_tracks};
 use crate::recording::{FrameMarks, Recording};
 use std::ops::Range;
-use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-
-/// Shares of the progress bar: the baseline's multiple-shooting fit, then its whole-run path.
-const FIT_SHARE: f64 = 0.12;
-const BASELINE_SHARE: f64 = 0.25;
 
 fn lm_error(e: LmError) -> DiagnoseError {
     match e {
@@ -47,6 +43,7 @@ pub fn diagnose(
     cancel: &AtomicBool,
 ) -> Result<Diagnosis, DiagnoseError> {
     let mut laps = Laps::new();
+    let progress = &Reporter::new(progress);
     let opts = &suspects(rec, opts)?;
     // The tracker's glitches out of every fit; the noise from the tracks alone.
     let tracks = check_tracks(rec);
@@ -62,11 +59,7 @@ pub fn diagnose(
         rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel,
     )?;
     laps.lap("candidates and departure");
-    progress(&DiagnoseProgress {
-        stage: DiagnoseStage::Explain,
-        fraction: 0.97,
-        message: "explaining".into(),
-    });
+    progress.explaining();
     let mut ranked = rank(&baseline, &fits);
     let (finding, chosen, pairs) = forward_selection(
         &ms,
@@ -173,23 +166,10 @@ fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, 
 fn baseline_fit(
     rec: &Recording,
     fit_opts: &FitOptions,
-    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<FitResult, DiagnoseError> {
-    fit(
-        rec,
-        fit_opts,
-        &|p: &FitProgress| {
-            let within = if p.total > 0 { (p.done as f64 / p.total as f64).min(1.0) } else { 0.0 };
-            progress(&DiagnoseProgress {
-                stage: DiagnoseStage::BaselineFit(p.stage),
-                fraction: FIT_SHARE * (p.stage as usize as f64 + within) / 5.0,
-                message: format!("baseline fit: {}", p.stage.describe()),
-            })
-        },
-        cancel,
-    )
-    .map_err(|e| {
+    fit(rec, fit_opts, &|p: &FitProgress| progress.baseline_fit(p), cancel).map_err(|e| {
         if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) }
     })
 }
@@ -198,24 +178,12 @@ fn baseline_fit(
 fn baseline_path(
     ms: &Shooting,
     base: &FitResult,
-    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), DiagnoseError> {
-    let levels_total = (base.segments.len().max(1) as f64).log2().ceil() + 1.0;
-    let baseline_progress = Mutex::new(0.0f64);
+    let residuals = base.residual_count.max(1) as f64;
     let mut on_baseline = |segments: usize, cost: f64| {
-        let done = (levels_total - (segments.max(1) as f64).log2().ceil() - 1.0) / levels_total;
-        if let Ok(mut d) = baseline_progress.lock() {
-            *d = d.max(done);
-            progress(&DiagnoseProgress {
-                stage: DiagnoseStage::Candidates,
-                fraction: FIT_SHARE + (BASELINE_SHARE - FIT_SHARE) * *d,
-                message: format!(
-                    "baseline over the whole run: {segments} segments, {:.2} px",
-                    (cost / base.residual_count.max(1) as f64).sqrt()
-                ),
-            });
-        }
+        progress.baseline_path(base.segments.len(), segments, (cost / residuals).sqrt())
     };
     fit_baseline(ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)
 }
@@ -236,7 +204,7 @@ fn candidates_and_departure(
     levels: &[Level],
     noise: &Noise,
     opts: &DiagnoseOptions,
-    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(Departure, WholeFit, Fits), DiagnoseError> {
     let (noise_px, width) = (noise.px, noise.window_frames);
@@ -321,7 +289,7 @@ fn forward_selection(
     ranked: &mut [(Candidate, Option<&WholeFit>)],
     noise_px: f64,
     evidence: f64,
-    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
     let n = baseline.residual_count;
@@ -332,11 +300,7 @@ fn forward_selection(
     // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
     // noise, pairs of the candidates that improved on the baseline.
     let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
-        progress(&DiagnoseProgress {
-            stage: DiagnoseStage::Candidates,
-            fraction: 0.95,
-            message: "pairs of effects".into(),
-        });
+        progress.pairs();
         pairs_stage(ms, levels, ranked, cancel)?
     } else {
         Vec::new()
@@ -803,50 +767,16 @@ fn candidates_stage(
     baseline: WholeFit,
     levels: &[super::whole::Level],
     opts: &DiagnoseOptions,
-    progress: &(dyn Fn(&DiagnoseProgress) + Sync),
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
     let kinds: Vec<EffectKind> =
         opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
-    let total = kinds.len().max(1) as f64;
     let residuals = baseline.residual_count.max(1) as f64;
-    let state = Mutex::new((vec![0.0f64; EffectKind::ALL.len()], 0usize));
-    let index = |k: EffectKind| EffectKind::ALL.iter().position(|&x| x == k).unwrap_or(0);
-    let report = |msg: String, st: &(Vec<f64>, usize)| {
-        let sum: f64 = st.0.iter().sum();
-        progress(&DiagnoseProgress {
-            stage: DiagnoseStage::Candidates,
-            fraction: BASELINE_SHARE + (0.95 - BASELINE_SHARE) * (sum / total).min(1.0),
-            message: msg,
-        });
-    };
-    // A candidate's path: three stages (four segments, two, one).
     let on_level = |k: EffectKind, segments: usize, cost: f64| {
-        if let Ok(mut st) = state.lock() {
-            let slot = &mut st.0[index(k)];
-            *slot = slot.max(match segments {
-                0..=1 => 0.67,
-                2 => 0.33,
-                _ => 0.0,
-            });
-            let rms = (cost / residuals).sqrt();
-            report(
-                format!(
-                    "{k}: {segments} segment{}, {rms:.2} px",
-                    if segments == 1 { "" } else { "s" }
-                ),
-                &st,
-            );
-        }
+        progress.candidate_level(k, segments, (cost / residuals).sqrt(), kinds.len())
     };
-    let on_done = |k: EffectKind| {
-        if let Ok(mut st) = state.lock() {
-            st.0[index(k)] = 1.0;
-            st.1 += 1;
-            let msg = format!("{} of {} candidates fitted over the whole run", st.1, kinds.len());
-            report(msg, &st);
-        }
-    };
+    let on_done = |k: EffectKind| progress.candidate_done(k, kinds.len());
     fit_candidates(ms, baseline, levels, &kinds, &on_level, &on_done, cancel).map_err(lm_error)
 }
 
