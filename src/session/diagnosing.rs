@@ -1,13 +1,12 @@
 //! The diagnosis as the window runs it (`analysis::diagnose` with its default options), and
 //! the models it found as cases the simulator can adopt.
 
-use super::job::{JobContext, Progress};
+use super::job::{JobContext, Progress, on_spare_cores};
 use crate::analysis::diagnose::{
     DiagnoseError, DiagnoseOptions, DiagnoseProgress, Diagnosis, diagnose,
 };
 use crate::config::CaseFile;
 use crate::recording::Recording;
-use std::sync::Mutex;
 
 /// A diagnosis done, with the cases of its two models (or why one cannot run).
 pub struct Diagnosed {
@@ -46,25 +45,9 @@ pub(super) fn run_diagnose(
     ctx: &JobContext,
     own_pool: bool,
 ) -> Result<Diagnosis, DiagnoseError> {
-    let shown = Mutex::new(0.0f32);
     let progress = |p: &DiagnoseProgress| {
-        let mut fraction = (p.fraction as f32).clamp(0.0, 1.0);
-        if let Ok(mut s) = shown.lock() {
-            *s = s.max(fraction);
-            fraction = *s;
-        }
-        ctx.report(Progress { fraction, text: p.message.clone() });
+        ctx.report_forward(Progress { fraction: p.fraction as f32, text: p.message.clone() })
     };
     let opts = DiagnoseOptions::default();
-    let threads =
-        std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
-    let pool = if own_pool {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok()
-    } else {
-        None
-    };
-    match pool {
-        Some(pool) => pool.install(|| diagnose(rec, &opts, &progress, ctx.cancel_flag())),
-        None => diagnose(rec, &opts, &progress, ctx.cancel_flag()),
-    }
+    on_spare_cores(own_pool, || diagnose(rec, &opts, &progress, ctx.cancel_flag()))
 }

@@ -1,9 +1,8 @@
 //! The fit as the window runs it, and its progress in words and as a share of the whole.
 
-use super::job::{JobContext, Progress};
+use super::job::{JobContext, Progress, on_spare_cores};
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, FitStage, fit};
 use crate::recording::Recording;
-use std::sync::Mutex;
 
 /// The stages of a fit as shares of its progress bar (rough shares of the time on the sample).
 const STAGE_SHARES: [(FitStage, f32); 5] = [
@@ -33,28 +32,9 @@ pub(super) fn run_fit(
     ctx: &JobContext,
     own_pool: bool,
 ) -> Result<FitResult, FitError> {
-    // The stages repeat (segments, then least squares per merge): the bar never goes back.
-    let shown = Mutex::new(0.0f32);
-    let progress = |p: &FitProgress| {
-        let mut d = describe_fit_progress(p);
-        if let Ok(mut s) = shown.lock() {
-            *s = s.max(d.fraction);
-            d.fraction = *s;
-        }
-        ctx.report(d);
-    };
+    let progress = |p: &FitProgress| ctx.report_forward(describe_fit_progress(p));
     let opts = FitOptions::default();
-    let threads =
-        std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
-    let pool = if own_pool {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok()
-    } else {
-        None
-    };
-    match pool {
-        Some(pool) => pool.install(|| fit(rec, &opts, &progress, ctx.cancel_flag())),
-        None => fit(rec, &opts, &progress, ctx.cancel_flag()),
-    }
+    on_spare_cores(own_pool, || fit(rec, &opts, &progress, ctx.cancel_flag()))
 }
 
 #[cfg(test)]

@@ -31,6 +31,15 @@ impl JobContext {
         }
     }
 
+    /// Reports without moving the bar back (work whose stages repeat: the fit's segments and
+    /// least squares per merge, the diagnosis's candidates).
+    pub fn report_forward(&self, mut p: Progress) {
+        if let Ok(mut slot) = self.progress.lock() {
+            p.fraction = p.fraction.clamp(0.0, 1.0).max(slot.fraction);
+            *slot = p;
+        }
+    }
+
     pub fn cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }
@@ -38,6 +47,17 @@ impl JobContext {
     /// The flag itself, for work that takes one (the fit).
     pub fn cancel_flag(&self) -> &AtomicBool {
         &self.cancel
+    }
+}
+
+/// Runs `work` on a pool of all cores but one when `own_pool`, so that the window and the
+/// integrator keep one (else on the caller's pool: tests, pictures).
+pub fn on_spare_cores<T: Send>(own_pool: bool, work: impl FnOnce() -> T + Send) -> T {
+    let threads =
+        std::thread::available_parallelism().map_or(1, |n| n.get()).saturating_sub(1).max(1);
+    match own_pool.then(|| rayon::ThreadPoolBuilder::new().num_threads(threads).build().ok()) {
+        Some(Some(pool)) => pool.install(work),
+        _ => work(),
     }
 }
 
