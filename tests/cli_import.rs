@@ -101,6 +101,9 @@ fn import_command_writes_a_recording_that_fit_and_diagnose_read_alike() {
         err.contains("a ringlab v1 recording, read by its own header (the given fps not applied)"),
         "{err}"
     );
+    let r = common::ringlab(&["fit", &o, "--from", "trackmate", "--json"]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("read by its own header (the given format not applied)"), "{err}");
     common::assert_fails_with(
         &["import", &s(&dlc), "--out", &o, "--from", "excel"],
         &["--from 'excel'", "dlc, tracker, trackmate, csv"],

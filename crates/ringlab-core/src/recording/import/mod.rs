@@ -354,7 +354,7 @@ pub fn import(
     let tracks = match source {
         Source::Ringlab => {
             one("a ringlab recording")?;
-            return ringlab_file(first, &files[0].1, opts);
+            return ringlab_file(first, &files[0].1, from.is_some(), opts);
         }
         Source::Dlc => {
             one("a DeepLabCut CSV")?;
@@ -379,8 +379,14 @@ pub fn import(
 
 /// A v1 file, read as it is: its header says everything, so options meant for trackers' files
 /// (a folder may hold both) are not applied to it, and that is said.
-fn ringlab_file(path: &Path, bytes: &[u8], opts: &ImportOptions) -> Result<Imported, ImportError> {
+fn ringlab_file(
+    path: &Path,
+    bytes: &[u8],
+    format_named: bool,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
     let set: Vec<&str> = [
+        ("format", format_named),
         ("fps", opts.fps.is_some()),
         ("px per mm", opts.px_per_mm.is_some()),
         ("marks", opts.marks.is_some()),
