@@ -7,7 +7,7 @@ use clap::Args;
 use ringlab::analysis::diagnose::{
     CONSISTENT_RATIO, DiagnoseOptions, DiagnoseProgress, Diagnosis, Finding, diagnose,
 };
-use ringlab::physics::EffectKind;
+use ringlab::physics::{EffectKind, SlipStart};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -112,6 +112,10 @@ pub struct FitJson {
     /// `C1..C3`, their sigmas, and the effect's strength with its sigma, by name.
     pub params: BTreeMap<String, Option<f64>>,
     pub end_s: Option<f64>,
+    /// With slip: how its run begins, `cone` (sliding at once where the start needs more
+    /// friction than `mu F_N`) or `held_rolling` (rolling until it first needs no more).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_start: Option<&'static str>,
 }
 
 #[derive(Serialize, Debug)]
@@ -165,6 +169,10 @@ impl DiagnoseJson {
                 effect: f.effect.name(),
                 params,
                 end_s: f.end_s,
+                slip_start: f.model.effects.slip_mu.map(|_| match f.model.effects.slip_start {
+                    SlipStart::Cone => "cone",
+                    SlipStart::HeldRolling => "held_rolling",
+                }),
             }
         };
         DiagnoseJson {

@@ -6,7 +6,7 @@ use clap::Args;
 use ringlab::config::Case;
 use ringlab::physics::effects::apply;
 use ringlab::physics::slip::painleve_mu_limit;
-use ringlab::physics::{EffectKind, Sample};
+use ringlab::physics::{EffectKind, Sample, SlipStart};
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct EffectArgs {
@@ -19,6 +19,38 @@ pub struct EffectArgs {
     /// arms k/R, the friction coefficient mu, or k R)
     #[arg(long = "effect-strength", value_name = "X", allow_negative_numbers = true)]
     pub effect_strength: Vec<f64>,
+    /// With --effect slip: how a start that needs more friction than mu F_N begins: cone
+    /// (slides at once) or held (rolls on until it needs no more, as an event-driven hybrid
+    /// simulator started rolling does)
+    #[arg(long, value_enum, value_name = "HOW")]
+    pub slip_start: Option<SlipStartArg>,
+}
+
+/// `--slip-start`: [`SlipStart`] on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlipStartArg {
+    Cone,
+    Held,
+}
+
+impl SlipStartArg {
+    pub fn start(self) -> SlipStart {
+        match self {
+            SlipStartArg::Cone => SlipStart::Cone,
+            SlipStartArg::Held => SlipStart::HeldRolling,
+        }
+    }
+}
+
+/// `--slip-start` checked against the effects asked for: it needs slip.
+pub fn slip_start_for(
+    arg: Option<SlipStartArg>,
+    slip: bool,
+) -> Result<Option<SlipStart>> {
+    match arg {
+        Some(_) if !slip => bail!("--slip-start needs --effect slip (it says how sliding begins)"),
+        a => Ok(a.map(SlipStartArg::start)),
+    }
 }
 
 fn known_names() -> String {
@@ -72,6 +104,10 @@ impl EffectArgs {
     /// it belongs to a recording, not to the motion).
     pub fn apply_to(&self, case: &mut Case) -> Result<Vec<(EffectKind, f64)>> {
         let effects = self.effects()?;
+        let slip = effects.iter().any(|(k, _)| *k == EffectKind::Slip);
+        if let Some(start) = slip_start_for(self.slip_start, slip)? {
+            case.model.effects.slip_start = start;
+        }
         let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
         for &(kind, x) in &effects {
             if kind.is_camera() {

@@ -1,6 +1,7 @@
 //! `ringlab synth`: a recording (format v1) made from the model.
 
 use super::case_args::CaseArgs;
+use super::effect_args::{SlipStartArg, slip_start_for};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use ringlab::physics::EffectKind;
@@ -33,6 +34,10 @@ pub struct SynthArgs {
     /// Strength of --effect (see `physics::effects` for each effect's meaning)
     #[arg(long, value_name = "X", allow_negative_numbers = true, requires = "effect")]
     pub effect_strength: Option<f64>,
+    /// With --effect slip: how a start that needs more friction than mu F_N begins: cone
+    /// (slides at once) or held (rolls on until it needs no more)
+    #[arg(long, value_enum, value_name = "HOW")]
+    pub slip_start: Option<SlipStartArg>,
     /// Seed of the pixel noise
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -88,7 +93,7 @@ fn camera_note(opts: &SynthOptions) -> String {
 }
 
 pub fn run(args: &SynthArgs) -> Result<()> {
-    let case = args.case.case()?;
+    let mut case = args.case.case()?;
     let effect = match (&args.effect, args.effect_strength) {
         (None, _) => None,
         (Some(name), strength) => {
@@ -105,6 +110,10 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             }
         }
     };
+    let slip = effect.is_some_and(|(k, _)| k == EffectKind::Slip);
+    if let Some(start) = slip_start_for(args.slip_start, slip)? {
+        case.model.effects.slip_start = start;
+    }
     let (image_width_px, image_height_px) = parse_image(&args.image)?;
     let opts = SynthOptions {
         fps: args.fps,

@@ -213,6 +213,7 @@ impl LoadedRecording {
             pivot_friction: e.pivot_friction,
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
+            slip_start_held: e.slip_start == crate::physics::SlipStart::HeldRolling,
         };
         self.case_file_with(
             name,

@@ -11,7 +11,7 @@
 
 use crate::physics::integrator::Tolerances;
 use crate::physics::{
-    Body, Conversion, Effects, Initial, Model, ReynoldsDrag, RunOptions, Shape, Units,
+    Body, Conversion, Effects, Initial, Model, ReynoldsDrag, SlipStart, RunOptions, Shape, Units,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -150,10 +150,19 @@ pub struct EffectsSection {
     pub translational_drag: f64,
     /// Friction coefficient of the sliding contact, static and kinetic (absent: pure rolling).
     pub slip_mu: Option<f64>,
+    /// With `slip_mu`: a start that needs more friction than `mu F_N` rolls on until it needs
+    /// no more (as an event-driven hybrid simulator started rolling does) instead of sliding
+    /// at once (`physics::SlipStart`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub slip_start_held: bool,
 }
 
 fn is_zero(x: &f64) -> bool {
     *x == 0.0
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl EffectsSection {
@@ -236,6 +245,7 @@ impl CaseFile {
             pivot_friction: e.pivot_friction,
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
+            slip_start: if e.slip_start_held { SlipStart::HeldRolling } else { SlipStart::Cone },
         };
         let model = model.with_effects(effects).map_err(|e| format!("[effects] {e}"))?;
         let i = &self.initial;
@@ -357,6 +367,7 @@ impl Case {
             pivot_friction: e.pivot_friction * k.length,
             translational_drag: e.translational_drag / k.length,
             slip_mu: e.slip_mu,
+            slip_start: e.slip_start,
         };
         let model = Model::new(body, to.g(), self.model.c_drag, to.nu_air())
             .and_then(|m| m.with_effects(effects))

@@ -65,12 +65,16 @@ fn check(name: &str) -> Diagnosis {
     d
 }
 
-/// Not met yet: ringlab's slip candidate ends worse than the baseline on the other simulator's
-/// slides, so the finding is `unexplained` (no longer `none`). Run it with `--ignored`.
+/// The other simulator starts its hybrid contact rolling beyond the friction cone and slides
+/// only from where the demand crosses `mu F_N`: the slip candidate's held start finds it.
 #[test]
-#[ignore = "issue 12 item 6: the other simulator's slip is not found yet (the finding is unexplained)"]
 fn slip_of_another_simulator_is_named() {
-    check("slip-hybrid");
+    let d = check("slip-hybrid");
+    let (mu, _) = d.after.strength.expect("a fitted mu");
+    assert!((mu - 0.40).abs() < 0.02, "mu {mu}");
+    for (i, want) in [0.03, 0.063, 0.085].iter().enumerate() {
+        assert!((d.after.c[i] / want - 1.0).abs() < 0.05, "C{} = {}", i + 1, d.after.c[i]);
+    }
 }
 
 #[test]

@@ -4,6 +4,7 @@
 use ringlab_core::physics::slip::{SLIDE_LEN, SlidingModel, painleve_mu_limit};
 use ringlab_core::physics::{
     Body, Effects, EndReason, Initial, Model, RunOptions, RunSummary, Sample, Shape, Simulation,
+    SlipStart,
     paper, simulate,
 };
 
@@ -324,4 +325,40 @@ fn the_sliding_run_converges_with_the_tolerance() {
         assert!((x.x_a - y.x_a).hypot(x.y_a - y.y_a) < 1e-4, "A differs at t = {}", x.t);
     }
     assert!((a.t_end - b.t_end).abs() < 1e-3);
+}
+
+/// A start beyond the friction cone (the paper's launch needs 1.7 F_N in friction, mu 0.4
+/// gives 0.4): the cone start slides at once; a start held rolling is the rolling run until
+/// rolling first needs no more than `mu F_N`, slides from the next crossing, and reports the
+/// held stretch as `slip`.
+#[test]
+fn a_start_held_rolling_rolls_until_the_cone_is_regained_and_then_slides() {
+    let mu = 0.4;
+    let initial = Initial { theta: 0.52, phi_dot: 3.8, psi_dot: 0.0, ..paper::initial() };
+    let cone = with_mu(paper::ring_model(paper::C_RING), mu);
+    let (s_cone, _) = run(cone.clone(), &initial, 0.01);
+    assert_eq!(s_cone.sliding.first().map(|i| i.start), Some(0.0), "{:?}", s_cone.sliding);
+
+    let held = Model {
+        effects: Effects { slip_start: SlipStart::HeldRolling, ..cone.effects },
+        ..cone.clone()
+    };
+    let (s_held, p_held) = run(held, &initial, 0.01);
+    let (_, p_roll) = run(paper::ring_model(paper::C_RING), &initial, 0.01);
+    let first = s_held.sliding.first().expect("it slides at some point").start;
+    // Rolling needs no more than mu F_N first near t = 2.59, and more again from t = 2.82.
+    let released = s_held.slip.first().expect("the held stretch is reported").end;
+    assert!((2.55..2.65).contains(&released), "released at {released}");
+    assert!((2.80..2.85).contains(&first), "first slide at {first}");
+    // Before the first slide the held run is the rolling run, though rolling is beyond the cone.
+    let mut beyond = 0;
+    for (a, b) in p_held.iter().zip(&p_roll).take_while(|(a, _)| a.t < first) {
+        assert_eq!(a.y, b.y, "t = {}", a.t);
+        beyond += usize::from(b.friction_ratio() > mu);
+    }
+    assert!(beyond > 100, "the held stretch is not beyond the cone: {beyond} samples");
+    // After it the runs part.
+    let d = (s_held.final_sample.x_a - s_cone.final_sample.x_a)
+        .hypot(s_held.final_sample.y_a - s_cone.final_sample.y_a);
+    assert!(d > 0.1, "the held and the cone start end {d} apart");
 }

@@ -18,7 +18,7 @@ pub mod units;
 
 pub use body::{Body, ParamError, Shape};
 pub use effects::EffectKind;
-pub use model::{Effects, Initial, Model, ReynoldsDrag, STATE_LEN, StateVec};
+pub use model::{Effects, Initial, Model, ReynoldsDrag, STATE_LEN, SlipStart, StateVec};
 pub use run::{
     EndReason, Interval, RunOptions, RunSummary, Sample, Simulation, TurnKind, TurningPoint,
     simulate,

@@ -70,6 +70,24 @@ pub struct Effects {
     /// once rolling would need more than it gives (None: pure rolling, the paper's model).
     /// Handled by the run, which switches to a larger state while the contact slides.
     pub slip_mu: Option<f64>,
+    /// How the sliding contact begins a run whose start state needs more friction than
+    /// `mu F_N` (slip effect only).
+    pub slip_start: SlipStart,
+}
+
+/// How a run with the slip effect begins where rolling at its start state would need more
+/// friction than `mu F_N`. A recording starts where the camera does; how the contact stands at
+/// the first frame is not in the data, so a fit may try both.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SlipStart {
+    /// Slide at once from zero slip (the physical reading of a state beyond the cone).
+    #[default]
+    Cone,
+    /// Hold the contact rolling until rolling first needs no more than `mu F_N`; from then on
+    /// slide where the demand crosses `mu F_N`. This is how an event-driven hybrid simulator
+    /// behaves when it is started in rolling mode: it switches only at a zero crossing of the
+    /// margin, so a start beyond the cone rolls on (the run reports that stretch as `slip`).
+    HeldRolling,
 }
 
 impl Effects {

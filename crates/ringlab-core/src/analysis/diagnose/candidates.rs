@@ -19,7 +19,7 @@ use super::whole::{
 };
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
-use crate::physics::StateVec;
+use crate::physics::{SlipStart, StateVec};
 use crate::physics::effects::EffectKind;
 use crate::physics::slip::painleve_mu_limit;
 use rayon::prelude::*;
@@ -195,7 +195,8 @@ fn single_segment<'a>(
     from: &WholeFit,
     strength: f64,
 ) -> (Shooting<'a>, Vec<f64>) {
-    let mut sh = with_budget(with_effect(ms, kind));
+    let start = from.model.effects.slip_start;
+    let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
     sh.segments = vec![from.span.clone()];
     let own = from.internal.len()
         - from.kind.free_count()
@@ -248,28 +249,37 @@ pub fn fit_candidates(
     done: &(dyn Fn(EffectKind) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
-    // The slowest first (sliding runs cost most), so that it does not finish alone.
-    let mut order: Vec<EffectKind> =
-        kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
-    order.sort_by_key(|&k| k != EffectKind::Slip);
-    let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
+    // The slowest first (sliding runs cost most), so that it does not finish alone; slip
+    // twice, once for each way its run can begin ([`SlipStart`]).
+    let mut order: Vec<(EffectKind, SlipStart)> = Vec::new();
+    for &k in kinds.iter().filter(|&&k| k != EffectKind::None) {
+        order.push((k, SlipStart::Cone));
+        if k == EffectKind::Slip {
+            order.push((k, SlipStart::HeldRolling));
+        }
+    }
+    order.sort_by_key(|&(k, _)| k != EffectKind::Slip);
+    let fitted: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
-        .map(|&k| {
+        .map(|&(k, start)| {
             let r = fit_candidate(
-                ms,
+                &with_slip_start(ms, start),
                 levels,
                 &baseline,
                 k,
                 &mut |segments, cost| progress(k, segments, cost),
                 cancel,
             );
-            done(k);
+            if start == SlipStart::Cone {
+                done(k);
+            }
             (k, r)
         })
         .collect();
-    if candidates.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
+    if fitted.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
         return Err(LmError::Cancelled);
     }
+    let mut candidates = keep_better_starts(fitted);
     // The baseline from the best candidate's drag and start.
     let mut baseline = baseline;
     let best = candidates
@@ -315,6 +325,41 @@ pub fn fit_candidates(
     Ok((baseline, candidates))
 }
 
+/// `ms` with runs that begin as `start` says (slip only; the other effects ignore it).
+pub fn with_slip_start<'a>(ms: &Shooting<'a>, start: SlipStart) -> Shooting<'a> {
+    let mut sh = ms.clone();
+    sh.spec.base.effects.slip_start = start;
+    sh
+}
+
+/// One fit per effect: of an effect fitted for each [`SlipStart`], the one with the lower cost
+/// (a fit over an error), in the first one's place.
+fn keep_better_starts(
+    fitted: Vec<(EffectKind, Result<WholeFit, LmError>)>,
+) -> Vec<(EffectKind, Result<WholeFit, LmError>)> {
+    let mut out: Vec<(EffectKind, Result<WholeFit, LmError>)> = Vec::new();
+    for (k, r) in fitted {
+        let Some(i) = out.iter().position(|(o, _)| *o == k) else {
+            out.push((k, r));
+            continue;
+        };
+        let seconds = |r: &Result<WholeFit, LmError>| r.as_ref().map_or(0.0, |w| w.seconds);
+        let spent = seconds(&out[i].1) + seconds(&r);
+        let better = match (&out[i].1, &r) {
+            (Ok(old), Ok(new)) => new.cost < old.cost,
+            (Err(_), Ok(_)) => true,
+            _ => false,
+        };
+        if better {
+            out[i].1 = r;
+        }
+        if let Ok(w) = out[i].1.as_mut() {
+            w.seconds = spent;
+        }
+    }
+    out
+}
+
 /// A pair of the forward selection: `first` (fitted alone as `first_fit`) and `second` (fitted
 /// alone as `second_fit`) together, on the baseline's path like a single candidate (see
 /// [`fit_candidate`]): from the baseline's first stage, with `first` at its own fitted strength
@@ -338,7 +383,9 @@ pub fn fit_pair(
             .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
     };
     let mu_max = mu_limit(ms);
-    let mut sh = with_budget(with_effects(ms, &[first, second]));
+    let slip = [first_fit, second_fit].into_iter().find(|w| w.kind == EffectKind::Slip);
+    let start = slip.map_or(SlipStart::Cone, |w| w.model.effects.slip_start);
+    let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &[first, second]));
     sh.segments = join.segments.clone();
     let own = |w: &WholeFit| w.internal[w.internal.len() - w.kind.free_count()..].to_vec();
     let lead = own(first_fit);

@@ -3,6 +3,7 @@
 
 use super::result::{Diagnosis, Finding, ModelFit, Signature};
 use super::rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
+use crate::physics::SlipStart;
 use crate::physics::effects::EffectKind;
 use std::fmt::Write;
 
@@ -140,8 +141,13 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
                     if s.slides_s.len() > 6 { ", ..." } else { "" }
                 )
             };
+            let held = if d.after.model.effects.slip_start == SlipStart::HeldRolling {
+                " The best fit starts held rolling: at the first frame rolling needs more friction than mu F_N, yet the recording shows no slide there; its contact rolls on until the demand has once come back within mu F_N and slides from where the demand next crosses it (as a contact started rolling and switched only where the demand crosses mu F_N, the way an event-driven simulator's hybrid contact does). A start that slides at once fits worse."
+            } else {
+                ""
+            };
             format!(
-                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides} The paper names slippage at cuspy turning points as a cause of its drift."
+                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides}{held} The paper names slippage at cuspy turning points as a cause of its drift."
             )
         }
         EffectKind::TranslationalDrag => format!(

@@ -1,6 +1,6 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::candidates::{fit_baseline, fit_candidates, fit_pair, refit_from};
+use super::candidates::{fit_baseline, fit_candidates, fit_pair, refit_from, with_slip_start};
 use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
@@ -677,7 +677,7 @@ fn polish_best_pair(
         .min_by(|a, b| score(a).total_cmp(&score(b)));
     let Some(p) = best else { return Ok(()) };
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
-    let mut sh = with_effects(ms, &kinds);
+    let mut sh = with_effects(&with_slip_start(ms, p.model.effects.slip_start), &kinds);
     sh.segments = vec![p.span.clone()];
     match fit_whole(&sh, p.internal.clone(), &[p.start], &mut |_, _| {}, cancel) {
         Ok(mut again) if again.cost < p.cost => {

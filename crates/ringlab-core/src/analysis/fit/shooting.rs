@@ -8,7 +8,7 @@
 use super::lm::BlockProblem;
 use super::params::ModelSpec;
 use crate::physics::model::{STATE_LEN, ix};
-use crate::physics::{Model, RunOptions, Sample, Simulation, StateVec};
+use crate::physics::{Model, RunOptions, Sample, Simulation, SlipStart, StateVec};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
 use std::ops::Range;
@@ -163,11 +163,22 @@ impl Shooting<'_> {
     }
 
     /// The model's samples over segment `s` from `y0`, charged to the budget (None once it is
-    /// spent).
+    /// spent). A start held rolling (`SlipStart::HeldRolling`) is the recording's start: only
+    /// the first segment holds; the others start as the cone says (a free start state that
+    /// could hold would make every slide optional).
     pub fn samples(&self, model: &Model, s: usize, y0: &StateVec) -> Option<Vec<Sample>> {
         if self.budget.as_ref().is_some_and(|b| b.spent()) {
             return None;
         }
+        let later;
+        let model = if s > 0 && model.effects.slip_start != SlipStart::Cone {
+            let mut m = model.clone();
+            m.effects.slip_start = SlipStart::Cone;
+            later = m;
+            &later
+        } else {
+            model
+        };
         let (samples, steps) =
             predict_samples_counted(model, &self.run, self.dt, y0, self.segments[s].clone());
         if let Some(b) = &self.budget {

@@ -7,7 +7,7 @@ mod switch;
 
 use super::contact::Contact;
 use super::integrator::{IntegratorError, Stats, find_root};
-use super::model::{Initial, Model, StateVec, ix};
+use super::model::{Initial, Model, SlipStart, StateVec, ix};
 use super::slip::{
     SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick_margin,
 };
@@ -51,8 +51,9 @@ pub struct RunSummary {
     /// Where `F_N <= 0`: the body would leave the table.
     pub lift_off: Vec<Interval>,
     /// Where `sqrt(F_1^2 + F_f^2) > mu F_N`: rolling needs more friction than the table gives
-    /// (this includes the lift-off intervals, where `mu F_N <= 0`). Pure rolling only: with
-    /// the slip effect the contact slides there instead (see `sliding`).
+    /// (this includes the lift-off intervals, where `mu F_N <= 0`). With the slip effect the
+    /// contact slides there instead (see `sliding`); only a start held rolling
+    /// ([`SlipStart::HeldRolling`]) is listed here, up to the step where it is released.
     pub slip: Vec<Interval>,
     /// Where the contact slides (slip effect on; empty otherwise).
     pub sliding: Vec<Interval>,
@@ -141,6 +142,9 @@ pub struct Simulation {
     switch_margin: f64,
     /// While sliding: the slip speed at the start of the current step.
     slip_speed_start: f64,
+    /// A start held rolling beyond the friction cone ([`SlipStart::HeldRolling`]), until
+    /// rolling first needs no more than `mu F_N`.
+    start_held: bool,
     /// Work of the steppers of earlier phases.
     stats_done: Stats,
     /// Time of the last contact switch and how many happened there in a row.
@@ -159,7 +163,7 @@ impl Simulation {
 
     /// Starts a run from any rolling state (used to continue with changed parameters). With
     /// the slip effect on, a state where rolling needs more friction than `mu F_N` starts
-    /// sliding.
+    /// sliding, or rolls on until the margin recovers (`Effects::slip_start`).
     pub fn from_state(
         model: Model,
         t0: f64,
@@ -169,11 +173,12 @@ impl Simulation {
         opts.validate().map_err(RunError::Param)?;
         model.check_effects().map_err(RunError::Param)?;
         let slip_mu = model.effects.slip_mu;
-        let onset = slip_mu.is_some_and(|mu| {
+        let beyond_cone = slip_mu.is_some_and(|mu| {
             let m = stick_margin(&model, mu, &y0);
             m < 0.0 || m.is_nan()
         });
-        let contact = if let (true, Some(mu)) = (onset, slip_mu) {
+        let held = beyond_cone && model.effects.slip_start == SlipStart::HeldRolling;
+        let contact = if let (true, false, Some(mu)) = (beyond_cone, held, slip_mu) {
             let s_ref = onset_direction(&model, &y0);
             let ys = sliding_state(&model, &y0);
             Contact::sliding(SlidingModel::new(model, mu, s_ref), t0, ys, opts.tol, opts.h_max)
@@ -182,6 +187,10 @@ impl Simulation {
         }
         .map_err(RunError::Integrator)?;
         let mut sim = Simulation::start(contact, t0, opts);
+        if held {
+            sim.start_held = true;
+            sim.slip.update(t0, true);
+        }
         // A start with theta' = 0 is itself a turning point (the paper starts at one).
         if y0[ix::W1] == 0.0 {
             let d = sim.model().dynamics(y0[ix::THETA], &Vector3::new(0.0, y0[ix::W2], y0[ix::W3]));
@@ -240,6 +249,7 @@ impl Simulation {
             slip_mu,
             switch_margin: 0.0,
             slip_speed_start: 0.0,
+            start_held: false,
             stats_done: Stats::default(),
             switches_here: (t0, 0),
             stick_residual: 0.0,

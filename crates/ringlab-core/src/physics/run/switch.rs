@@ -69,6 +69,9 @@ impl Simulation {
                 stick_margin(c.model(), mu, &y)
             };
             if m_old < 0.0 || m_old.is_nan() {
+                if self.start_held {
+                    return None;
+                }
                 // Rolling although the margin is negative can only be the instant of a stick
                 // with no friction to spare: slide at once.
                 return Some((t_old, Switch::Contact));
@@ -229,5 +232,15 @@ impl Simulation {
         }
         self.switch_margin = self.current_switch_margin();
         self.slip_speed_start = self.current_slip_speed();
+        self.release_held_start();
+    }
+
+    /// A start held rolling is released at the first step that begins with friction to
+    /// spare; from there the switches are the margin's zero crossings.
+    fn release_held_start(&mut self) {
+        if self.start_held && self.switch_margin >= 0.0 {
+            self.start_held = false;
+            self.slip.update(self.contact.t(), false);
+        }
     }
 }
