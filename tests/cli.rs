@@ -172,6 +172,30 @@ fn effects_from_flags_and_from_a_case_file_agree_and_show_in_the_json() {
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(text.lines().next().unwrap().ends_with(",sliding,slip_speed"));
     assert!(text.lines().nth(1).unwrap().contains(",1,"), "the start slides");
+    // A start held rolling: the flag and the case file's key agree; the held stretch is
+    // reported as would-slip, and the first slide comes after it.
+    let held = ringlab(&[
+        "simulate",
+        "--json",
+        "--effect",
+        "slip",
+        "--effect-strength",
+        "0.4",
+        "--slip-start",
+        "held",
+    ]);
+    assert!(held.status.success(), "{}", String::from_utf8_lossy(&held.stderr));
+    let h: serde_json::Value = serde_json::from_slice(&held.stdout).expect("json");
+    let held_until = h["slip"][0][1].as_f64().expect("the held stretch");
+    assert_eq!(h["slip"][0][0], 0.0);
+    let first_slide = h["sliding"][0][0].as_f64().expect("a slide");
+    assert!(first_slide >= held_until && held_until > 0.0, "{h}");
+    std::fs::write(&path, format!("{good}\n[effects]\nslip_mu = 0.4\nslip_start_held = true\n"))
+        .unwrap();
+    let out = ringlab(&["simulate", "--json", "--config", path.to_str().unwrap()]);
+    let w: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!((&w["sliding"], &w["slip"]), (&h["sliding"], &h["slip"]));
+
     std::fs::write(&path, format!("{good}\n[effects]\nslip_mu = -0.4\n")).unwrap();
     let out = ringlab(&["simulate", "--config", path.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -218,6 +242,12 @@ fn bad_effects_are_named() {
         "twice",
     );
     assert_fails_with(&["simulate", "--effect-strength", "0.3"], "--effect");
+    assert_fails_with(&["simulate", "--slip-start", "held"], "--slip-start needs --effect slip");
+    assert_fails_with(
+        &["simulate", "--effect", "slip", "--effect-strength", "0.4", "--slip-start", "late"],
+        "--slip-start",
+    );
+    assert_fails_with(&["synth", "--slip-start", "held", "--out", "-"], "--effect slip");
 }
 
 #[test]

@@ -43,10 +43,7 @@ impl SlipStartArg {
 }
 
 /// `--slip-start` checked against the effects asked for: it needs slip.
-pub fn slip_start_for(
-    arg: Option<SlipStartArg>,
-    slip: bool,
-) -> Result<Option<SlipStart>> {
+pub fn slip_start_for(arg: Option<SlipStartArg>, slip: bool) -> Result<Option<SlipStart>> {
     match arg {
         Some(_) if !slip => bail!("--slip-start needs --effect slip (it says how sliding begins)"),
         a => Ok(a.map(SlipStartArg::start)),

@@ -11,7 +11,7 @@
 
 use crate::physics::integrator::Tolerances;
 use crate::physics::{
-    Body, Conversion, Effects, Initial, Model, ReynoldsDrag, SlipStart, RunOptions, Shape, Units,
+    Body, Conversion, Effects, Initial, Model, ReynoldsDrag, RunOptions, Shape, SlipStart, Units,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

@@ -4,8 +4,7 @@
 use ringlab_core::physics::slip::{SLIDE_LEN, SlidingModel, painleve_mu_limit};
 use ringlab_core::physics::{
     Body, Effects, EndReason, Initial, Model, RunOptions, RunSummary, Sample, Shape, Simulation,
-    SlipStart,
-    paper, simulate,
+    SlipStart, paper, simulate,
 };
 
 fn with_mu(model: Model, mu: f64) -> Model {

@@ -19,9 +19,9 @@ use super::whole::{
 };
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
-use crate::physics::{SlipStart, StateVec};
 use crate::physics::effects::EffectKind;
 use crate::physics::slip::painleve_mu_limit;
+use crate::physics::{SlipStart, StateVec};
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -118,44 +118,25 @@ pub fn fit_candidate(
             .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
     };
     let mu_max = mu_limit(ms);
-    let mut sh = with_budget(with_effect(ms, kind));
-    sh.segments = join.segments.clone();
-    let trials = trial_strengths(kind, mu_max);
-    let globals: Vec<Vec<f64>> = trials
-        .iter()
-        .map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect())
-        .collect();
-    let costs: Vec<f64> = globals.iter().map(|g| segment_cost(&sh, g, &join.states)).collect();
-    let best = (0..trials.len())
-        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
-        .ok_or(LmError::BadStart)?;
-    let segments = sh.segments.len();
-    let opts = LmOptions {
-        max_iterations: LEVEL_ITERATIONS,
-        rel_tol: 1e-4,
-        covariance: false,
-        ..LmOptions::default()
+    // Slip's first stage once for each way its run can begin ([`SlipStart`]); the path goes on
+    // with the better. Only the first segment differs, and there the two part at once (a
+    // held start rolls for seconds where the other slides).
+    let slip_starts: &[SlipStart] = if kind == EffectKind::Slip {
+        &[SlipStart::Cone, SlipStart::HeldRolling]
+    } else {
+        &[SlipStart::Cone]
     };
-    let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
-    let mut starts = vec![globals[best].clone()];
-    if let Some(mid) = blind_start(kind, mu_max).filter(|&m| m != trials[best]) {
-        starts.push(join.global.iter().copied().chain(effect_start(kind, mid)).collect());
-    }
-    let mut first: Option<lm::LmSolution> = None;
-    for g in starts {
-        let sol = lm::solve(
-            &sh,
-            g,
-            locals.clone(),
-            &opts,
-            &mut |_, c| on_iteration(segments, c),
-            cancel,
-        )?;
-        if first.as_ref().is_none_or(|f| sol.cost < f.cost) {
-            first = Some(sol);
+    let mut first: Option<(lm::LmSolution, Shooting)> = None;
+    for &start in slip_starts {
+        let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
+        sh.segments = join.segments.clone();
+        let sol = first_stage(&sh, join, kind, mu_max, on_iteration, cancel)?;
+        if first.as_ref().is_none_or(|(f, _)| sol.cost < f.cost) {
+            first = Some((sol, sh));
         }
     }
-    let first = first.ok_or(LmError::BadStart)?;
+    let (first, mut sh) = first.ok_or(LmError::BadStart)?;
+    let segments = sh.segments.len();
     let mut fit = if segments > 1 && first.cost > baseline.cost {
         refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?
     } else {
@@ -173,6 +154,48 @@ pub fn fit_candidate(
     };
     fit.seconds = clock.elapsed().as_secs_f64();
     Ok(fit)
+}
+
+/// The least squares of `kind` at the baseline's first stage (`sh` holds its segments): from
+/// the trial strength that fits best at the baseline's states, and from the blind start.
+fn first_stage(
+    sh: &Shooting,
+    join: &Level,
+    kind: EffectKind,
+    mu_max: f64,
+    on_iteration: &mut dyn FnMut(usize, f64),
+    cancel: &AtomicBool,
+) -> Result<lm::LmSolution, LmError> {
+    let trials = trial_strengths(kind, mu_max);
+    let globals: Vec<Vec<f64>> = trials
+        .iter()
+        .map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect())
+        .collect();
+    let costs: Vec<f64> = globals.iter().map(|g| segment_cost(sh, g, &join.states)).collect();
+    let best = (0..trials.len())
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .ok_or(LmError::BadStart)?;
+    let segments = sh.segments.len();
+    let opts = LmOptions {
+        max_iterations: LEVEL_ITERATIONS,
+        rel_tol: 1e-4,
+        covariance: false,
+        ..LmOptions::default()
+    };
+    let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
+    let mut starts = vec![globals[best].clone()];
+    if let Some(mid) = blind_start(kind, mu_max).filter(|&m| m != trials[best]) {
+        starts.push(join.global.iter().copied().chain(effect_start(kind, mid)).collect());
+    }
+    let mut first: Option<lm::LmSolution> = None;
+    for g in starts {
+        let sol =
+            lm::solve(sh, g, locals.clone(), &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
+        if first.as_ref().is_none_or(|f| sol.cost < f.cost) {
+            first = Some(sol);
+        }
+    }
+    first.ok_or(LmError::BadStart)
 }
 
 /// Integration steps a candidate's fit may spend per frame of the recording (see
@@ -249,37 +272,28 @@ pub fn fit_candidates(
     done: &(dyn Fn(EffectKind) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
-    // The slowest first (sliding runs cost most), so that it does not finish alone; slip
-    // twice, once for each way its run can begin ([`SlipStart`]).
-    let mut order: Vec<(EffectKind, SlipStart)> = Vec::new();
-    for &k in kinds.iter().filter(|&&k| k != EffectKind::None) {
-        order.push((k, SlipStart::Cone));
-        if k == EffectKind::Slip {
-            order.push((k, SlipStart::HeldRolling));
-        }
-    }
-    order.sort_by_key(|&(k, _)| k != EffectKind::Slip);
-    let fitted: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
+    // The slowest first (sliding runs cost most), so that it does not finish alone.
+    let mut order: Vec<EffectKind> =
+        kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
+    order.sort_by_key(|&k| k != EffectKind::Slip);
+    let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
-        .map(|&(k, start)| {
+        .map(|&k| {
             let r = fit_candidate(
-                &with_slip_start(ms, start),
+                ms,
                 levels,
                 &baseline,
                 k,
                 &mut |segments, cost| progress(k, segments, cost),
                 cancel,
             );
-            if start == SlipStart::Cone {
-                done(k);
-            }
+            done(k);
             (k, r)
         })
         .collect();
-    if fitted.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
+    if candidates.iter().any(|(_, r)| matches!(r, Err(LmError::Cancelled))) {
         return Err(LmError::Cancelled);
     }
-    let mut candidates = keep_better_starts(fitted);
     // The baseline from the best candidate's drag and start.
     let mut baseline = baseline;
     let best = candidates
@@ -330,34 +344,6 @@ pub fn with_slip_start<'a>(ms: &Shooting<'a>, start: SlipStart) -> Shooting<'a> 
     let mut sh = ms.clone();
     sh.spec.base.effects.slip_start = start;
     sh
-}
-
-/// One fit per effect: of an effect fitted for each [`SlipStart`], the one with the lower cost
-/// (a fit over an error), in the first one's place.
-fn keep_better_starts(
-    fitted: Vec<(EffectKind, Result<WholeFit, LmError>)>,
-) -> Vec<(EffectKind, Result<WholeFit, LmError>)> {
-    let mut out: Vec<(EffectKind, Result<WholeFit, LmError>)> = Vec::new();
-    for (k, r) in fitted {
-        let Some(i) = out.iter().position(|(o, _)| *o == k) else {
-            out.push((k, r));
-            continue;
-        };
-        let seconds = |r: &Result<WholeFit, LmError>| r.as_ref().map_or(0.0, |w| w.seconds);
-        let spent = seconds(&out[i].1) + seconds(&r);
-        let better = match (&out[i].1, &r) {
-            (Ok(old), Ok(new)) => new.cost < old.cost,
-            (Err(_), Ok(_)) => true,
-            _ => false,
-        };
-        if better {
-            out[i].1 = r;
-        }
-        if let Ok(w) = out[i].1.as_mut() {
-            w.seconds = spent;
-        }
-    }
-    out
 }
 
 /// A pair of the forward selection: `first` (fitted alone as `first_fit`) and `second` (fitted

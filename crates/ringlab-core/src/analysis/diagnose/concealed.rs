@@ -5,7 +5,7 @@
 
 use crate::config::{Case, load_preset};
 use crate::physics::effects::EffectKind;
-use crate::physics::{Initial, paper};
+use crate::physics::{Initial, SlipStart, paper};
 use crate::recording::Recording;
 use crate::recording::rng::Rng;
 use crate::recording::synth::{SynthError, SynthOptions, synthesize};
@@ -34,7 +34,9 @@ fn log_uniform(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
 /// The case and synth options of recording `seed` with `effect` concealed: start at an inner
 /// turning point with `theta0` in [0.45, 0.65] rad, `|phi'0|` in [4, 5] of either sign,
 /// `psi'0` in [-0.1, 0.1], any heading; each `C_i` the paper's within a factor 1.3; the
-/// strength log-uniform over the effect's realistic range.
+/// strength log-uniform over the effect's realistic range. Slip begins one way or the other
+/// at even odds ([`SlipStart`]: these starts all need more friction than `mu F_N`), drawn
+/// last so that the other draws do not depend on it.
 pub fn concealed_case(
     effect: EffectKind,
     seed: u64,
@@ -62,6 +64,9 @@ pub fn concealed_case(
         seed: rng.next_u64(),
         ..SynthOptions::default()
     };
+    if effect == EffectKind::Slip && rng.uniform() < 0.5 {
+        case.model.effects.slip_start = SlipStart::HeldRolling;
+    }
     let truth = Concealed { effect, strength, c: case.model.c_drag, initial: case.initial, seed };
     Ok((case, opts, truth))
 }
