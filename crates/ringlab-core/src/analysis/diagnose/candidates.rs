@@ -121,21 +121,26 @@ pub fn fit_candidate(
     // Slip's first stage once for each way its run can begin ([`SlipStart`]); the path goes on
     // with the better. Only the first segment differs, and there the two part at once (a
     // held start rolls for seconds where the other slides).
-    let slip_starts: &[SlipStart] = if kind == EffectKind::Slip {
-        &[SlipStart::Cone, SlipStart::HeldRolling]
-    } else {
-        &[SlipStart::Cone]
-    };
-    let mut first: Option<(lm::LmSolution, Shooting)> = None;
-    for &start in slip_starts {
+    let stage = |start: SlipStart, on_iteration: &mut dyn FnMut(usize, f64)| {
         let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
         sh.segments = join.segments.clone();
-        let sol = first_stage(&sh, join, kind, mu_max, on_iteration, cancel)?;
-        if first.as_ref().is_none_or(|(f, _)| sol.cost < f.cost) {
-            first = Some((sol, sh));
+        first_stage(&sh, join, kind, mu_max, on_iteration, cancel).map(|sol| (sol, sh))
+    };
+    let first = if kind == EffectKind::Slip {
+        // The held start on another thread while this one reports the cone start's progress.
+        let mut held = None;
+        let cone = rayon::in_place_scope(|s| {
+            s.spawn(|_| held = Some(stage(SlipStart::HeldRolling, &mut |_, _| {})));
+            stage(SlipStart::Cone, on_iteration)
+        })?;
+        match held.ok_or(LmError::BadStart)?? {
+            h if h.0.cost < cone.0.cost => h,
+            _ => cone,
         }
-    }
-    let (first, mut sh) = first.ok_or(LmError::BadStart)?;
+    } else {
+        stage(SlipStart::Cone, on_iteration)?
+    };
+    let (first, mut sh) = first;
     let segments = sh.segments.len();
     let mut fit = if segments > 1 && first.cost > baseline.cost {
         refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?
