@@ -198,7 +198,7 @@ impl LoadedRecording {
         let what = if m.effect == EffectKind::None {
             "baseline".to_string()
         } else {
-            format!("with {}", m.effect)
+            format!("with {}", m.effects_label())
         };
         let name = format!("{}, diagnosed ({what})", self.name());
         let description = format!(

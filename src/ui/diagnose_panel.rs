@@ -135,8 +135,10 @@ fn result_ui(
                 r.excess_px(r.after.rms_px)
             ),
         );
-        if let Some((v, s)) = r.after.strength {
-            row(ui, r.after.effect.parameter(), pm(v, s));
+        for (kind, (v, s)) in
+            r.after.also.iter().copied().chain(r.after.strength.map(|s| (r.after.effect, s)))
+        {
+            row(ui, kind.parameter(), pm(v, s));
         }
         for i in 0..3 {
             row(ui, &format!("C{}", i + 1), pm(r.after.c[i], r.after.c_sigma[i]));
@@ -222,7 +224,7 @@ fn legend_ui(ui: &mut egui::Ui, r: &Diagnosis) {
         super::teach::swatch_ui(ui, BASELINE_COLOR);
         ui.label(RichText::new("baseline").small());
         super::teach::swatch_ui(ui, IMPROVED_COLOR);
-        ui.label(RichText::new(format!("with {}", r.after.effect)).small());
+        ui.label(RichText::new(format!("with {}", r.after.effects_label())).small());
         if r.mismatch.is_some() {
             super::teach::swatch_ui(ui, MISMATCH_FILL);
             ui.label(RichText::new("mismatch").small());

@@ -41,6 +41,15 @@ pub struct ModelFit {
     pub end_s: Option<f64>,
 }
 
+impl ModelFit {
+    /// Its effects in the order fitted, joined by " + " (`none` for the baseline).
+    pub fn effects_label(&self) -> String {
+        let names: Vec<&str> =
+            self.also.iter().map(|(k, _)| k.name()).chain([self.effect.name()]).collect();
+        names.join(" + ")
+    }
+}
+
 /// One candidate of the ranking (`none` is the baseline).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Candidate {
