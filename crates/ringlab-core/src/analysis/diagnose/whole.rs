@@ -128,6 +128,7 @@ pub fn search_range(kind: EffectKind, mu_max: f64) -> (f64, f64) {
 /// The multiple-shooting cost of `sh` at `global` with the segments' states held (infinite
 /// where the model cannot run): how well a strength suits the data before any refit.
 pub fn segment_cost(sh: &Shooting, global: &[f64], states: &[StateVec]) -> f64 {
+    sh.settle_budget();
     let costs: Vec<f64> = (0..sh.segments.len())
         .into_par_iter()
         .map(|s| {

@@ -38,6 +38,9 @@ pub trait BlockProblem: Sync {
     ) -> Option<Vec<Vec<f64>>> {
         None
     }
+    /// Called before each batch of parallel evaluations, so that a problem with a shared work
+    /// budget decides once per batch whether it is spent, not in the threads' order.
+    fn settle(&self) {}
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,6 +112,7 @@ struct BlockJacobian {
 
 /// Cost and residuals of every block, None where any block fails.
 fn evaluate(p: &dyn BlockProblem, g: &[f64], b: &[Vec<f64>]) -> Option<(f64, Vec<Vec<f64>>)> {
+    p.settle();
     let res: Option<Vec<Vec<f64>>> =
         (0..p.block_count()).into_par_iter().map(|s| p.residuals(s, g, &b[s])).collect();
     let res = res?;
@@ -123,6 +127,7 @@ fn linearize(
     base: Vec<Vec<f64>>,
     cost: f64,
 ) -> Option<Linearized> {
+    p.settle();
     let (ng, nb) = (p.global_count(), p.block_size());
     let sym = p.symmetric_locals();
     // One job per (block, column), and one per block for the columns a symmetry gives (None).

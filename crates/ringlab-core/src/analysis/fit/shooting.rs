@@ -13,7 +13,7 @@ use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
 use std::ops::Range;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// The predicted pixel positions of the marks, frame by frame.
 pub type PredictedMarks = Vec<[[f64; 2]; MARKS]>;
@@ -40,20 +40,30 @@ pub struct Shooting<'a> {
 /// A cap on the integration steps of one fit, shared by the threads that work for it. Once it
 /// is spent every prediction fails as if outside the model's domain, and the least squares stop
 /// where they are: a deterministic bound on a fit that crawls (sliding runs, trial steps into
-/// stiff corners), where a clock would make the result depend on the machine.
+/// stiff corners), where a clock would make the result depend on the machine. Whether it is
+/// spent is decided only at [`WorkBudget::settle`], between batches of parallel predictions:
+/// decided at each prediction, which segments of the batch that crossed the limit failed
+/// depended on the threads' order, and the same recording could be diagnosed two ways.
 #[derive(Debug)]
 pub struct WorkBudget {
     used: AtomicU64,
     limit: u64,
+    spent: AtomicBool,
 }
 
 impl WorkBudget {
     pub fn new(limit: u64) -> WorkBudget {
-        WorkBudget { used: AtomicU64::new(0), limit }
+        WorkBudget { used: AtomicU64::new(0), limit, spent: AtomicBool::new(false) }
     }
 
+    /// Spent as of the last [`WorkBudget::settle`].
     pub fn spent(&self) -> bool {
-        self.used.load(Ordering::Relaxed) >= self.limit
+        self.spent.load(Ordering::Relaxed)
+    }
+
+    /// Decides, for the predictions that follow, whether the budget is spent.
+    pub fn settle(&self) {
+        self.spent.store(self.used.load(Ordering::Relaxed) >= self.limit, Ordering::Relaxed);
     }
 
     pub fn used(&self) -> u64 {
@@ -162,6 +172,14 @@ impl Shooting<'_> {
         m.map(|p| camera.to_px(p[0] * k, p[1] * k))
     }
 
+    /// Decides whether the budget is spent, before a batch of parallel predictions
+    /// ([`WorkBudget::settle`]).
+    pub fn settle_budget(&self) {
+        if let Some(b) = &self.budget {
+            b.settle();
+        }
+    }
+
     /// The model's samples over segment `s` from `y0`, charged to the budget (None once it is
     /// spent). A start held rolling (`SlipStart::HeldRolling`) is the recording's start: only
     /// the first segment holds; the others start as the cone says (a free start state that
@@ -248,6 +266,9 @@ impl BlockProblem for Shooting<'_> {
     fn residuals(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<f64>> {
         self.segment_residuals(s, global, local)
     }
+    fn settle(&self) {
+        self.settle_budget();
+    }
     fn global_step(&self, i: usize, value: f64) -> f64 {
         self.spec.step(i, value)
     }
@@ -333,6 +354,9 @@ impl BlockProblem for OneSegment<'_, '_> {
     }
     fn residuals(&self, _: usize, state: &[f64], _: &[f64]) -> Option<Vec<f64>> {
         self.shooting.segment_residuals(self.segment, &self.global, state)
+    }
+    fn settle(&self) {
+        self.shooting.settle_budget();
     }
     fn global_step(&self, _: usize, value: f64) -> f64 {
         1e-6 * value.abs().max(1.0)
