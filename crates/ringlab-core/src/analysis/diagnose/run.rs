@@ -667,9 +667,8 @@ fn camera_second_pass(
 /// strengths: its first walk began at the baseline's drag, and with two strengths free it
 /// often ends in a side valley that no polishing of the last stage leaves (Reynolds drag with
 /// pivot friction: 0.91 px, unchanged after four more rounds of the last stage; walked again,
-/// 0.57 px). A pair with a camera effect walks from segments fitted through its camera, as
-/// [`camera_second_pass`] says why (a pinhole beside translational drag: 1.71 px from the
-/// baseline's segments).
+/// 0.57 px). A pair with a camera effect walks from segments fitted through its camera, for
+/// the reason [`camera_second_pass`] gives (the camera options are built as there).
 fn walk_best_pair_again(
     again: &Again,
     ms: &Shooting,
