@@ -92,6 +92,9 @@ pub struct PartialJson {
     pub names: Vec<&'static str>,
     /// Share of the baseline's squared misfit beyond the noise that it removes.
     pub explained_share: f64,
+    /// Its misfit, and the part of it beyond the noise (px).
+    pub rms_px: f64,
+    pub excess_px: f64,
 }
 
 #[derive(Serialize, Debug)]
@@ -182,6 +185,8 @@ impl DiagnoseJson {
                 Finding::Unexplained { partial: Some(p) } => Some(PartialJson {
                     names: p.effects.iter().map(|k| k.name()).collect(),
                     explained_share: p.share,
+                    rms_px: p.rms_px,
+                    excess_px: d.excess_px(p.rms_px),
                 }),
                 _ => None,
             },
@@ -304,7 +309,11 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
             println!("left out: {}", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + "))
         }
         Finding::Unexplained { partial: Some(p) } => {
-            println!("left out: unexplained ({p} explains {:.0}% of the excess)", 100.0 * p.share)
+            println!(
+                "left out: unexplained ({p} explains {:.0}% of the excess, partially: it leaves {:.3} px beyond the noise)",
+                100.0 * p.share,
+                d.excess_px(p.rms_px)
+            )
         }
         f => println!("left out: {}", f.name()),
     }

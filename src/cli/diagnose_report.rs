@@ -261,7 +261,11 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
         }
         Finding::Unexplained { partial } => {
             let part = partial.as_ref().map_or(String::new(), |p| {
-                format!("; {p} explains {:.0}% of the excess, partially", 100.0 * p.share)
+                format!(
+                    "; {p} explains {:.0}% of the excess, partially: it leaves {:.3} px beyond the noise",
+                    100.0 * p.share,
+                    d.excess_px(p.rms_px)
+                )
             });
             let _ = writeln!(
                 m,

@@ -106,8 +106,9 @@ fn result_ui(
             format!(
                 "Left out: something no candidate explains{}",
                 partial.as_ref().map_or(String::new(), |p| format!(
-                    " ({p} explains {:.0}%, partially)",
-                    100.0 * p.share
+                    " ({p} explains {:.0}%, partially: {:.2} px beyond the noise left)",
+                    100.0 * p.share,
+                    r.excess_px(p.rms_px)
                 ))
             ),
             MISMATCH_COLOR,

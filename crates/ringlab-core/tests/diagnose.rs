@@ -8,7 +8,7 @@
 
 use ringlab_core::analysis::diagnose::concealed::{Family, concealed_recording, family_recording};
 use ringlab_core::analysis::diagnose::{
-    DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, Diagnosis, diagnose,
+    DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage, Diagnosis, Finding, diagnose,
     explained_share,
 };
 use ringlab_core::physics::EffectKind;
@@ -237,4 +237,31 @@ fn a_pair_whose_second_effect_explains_little_alone_is_named() {
     named.sort_by_key(|k| k.name());
     assert_eq!(named, [EffectKind::PivotFriction, EffectKind::ReynoldsDrag], "{}", d.explanation);
     assert!(d.after.rms_px < 1.1 * NOISE_PX, "left {} px", d.after.rms_px);
+}
+
+/// Rolling friction withheld from the candidates (the bench's `withheld:rolling_friction`,
+/// seed 1, chosen because it shows this): pivot friction imitates it in part, removing most of
+/// the squared excess but leaving several noise levels. Naming it would name an effect that is
+/// not there; the diagnosis must say `unexplained` with pivot friction as the partial answer.
+#[test]
+fn an_effect_withheld_and_imitated_in_part_is_unexplained() {
+    let family = Family::Withheld(EffectKind::RollingFriction);
+    let rec = family_recording(family, 1).expect("a concealed recording");
+    let opts = DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
+    let d = diagnose(&rec, &opts, &|_| {}, &AtomicBool::new(false)).expect("a diagnosis");
+    let pivot =
+        d.candidates.iter().find(|c| c.effect == EffectKind::PivotFriction).expect("ranked");
+    let share = explained_share(d.before.rms_px, pivot.rms_px, d.noise_px);
+    assert!(
+        share > 0.5 && pivot.delta_score < -100.0,
+        "pivot friction must explain most of the excess by the share alone, else this test shows nothing: {share}"
+    );
+    match &d.finding {
+        Finding::Unexplained { partial: Some(p) } => {
+            assert_eq!(p.effects[0], EffectKind::PivotFriction, "{}", d.explanation);
+            assert!(d.excess_px(p.rms_px) > 2.0 * d.noise_px, "{}", d.explanation);
+        }
+        f => panic!("must be unexplained with a partial candidate, said {f:?}: {}", d.explanation),
+    }
+    assert!(d.explanation.contains("at most part of the answer"), "{}", d.explanation);
 }

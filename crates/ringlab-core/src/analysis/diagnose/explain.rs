@@ -290,8 +290,10 @@ pub fn explain(d: &Diagnosis) -> String {
                 Some(p) => {
                     let _ = write!(
                         out,
-                        " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise, not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer.",
+                        " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise and leaves an excess of {:.3} px ({:.1} times the noise), not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer: {p} with another law, or an effect not among the candidates that it imitates in part.",
                         100.0 * p.share,
+                        d.excess_px(p.rms_px),
+                        d.excess_px(p.rms_px) / d.noise_px,
                         100.0 * MIN_EXPLAINED
                     );
                 }

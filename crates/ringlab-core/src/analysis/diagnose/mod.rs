@@ -62,6 +62,7 @@
 //! mismatch windows, the trace of point A under both models, the ranked candidates, and the
 //! improved model with its start state, ready for a simulator to adopt.
 
+mod again;
 pub mod candidates;
 pub mod concealed;
 pub mod departure;
@@ -72,6 +73,7 @@ pub mod residual;
 mod result;
 mod rules;
 mod run;
+mod select;
 pub mod signature;
 pub mod whole;
 

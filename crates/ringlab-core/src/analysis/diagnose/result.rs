@@ -174,11 +174,13 @@ pub enum Finding {
 }
 
 /// The candidate (one effect, or a pair) that explains the largest share of an unexplained
-/// misfit beyond the noise, and that share (of `before^2 - noise^2`).
+/// misfit beyond the noise, that share (of `before^2 - noise^2`) and the misfit it leaves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Partial {
     pub effects: Vec<EffectKind>,
     pub share: f64,
+    /// The model's misfit with these effects (px rms over the coordinates kept).
+    pub rms_px: f64,
 }
 
 impl std::fmt::Display for Partial {

@@ -1,20 +1,20 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::candidates::{fit_baseline, fit_candidates, fit_pair, refit_from, with_slip_start};
+use super::again::{Again, camera_second_pass, walk_best_singles_again};
+use super::candidates::{fit_baseline, fit_candidates};
 use super::departure::{self, Departure};
 use super::explain::explain;
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
 use super::progress::Reporter;
 use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
 use super::result::{
-    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
-    ResidualSeries, Signature, Trace,
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
+    Signature, Trace,
 };
-use super::rules::{
-    CONSISTENT_RATIO, MIN_PAIR_EXCESS_CUT, bic, explained_share, explains, explains_by,
-};
+use super::rules::bic;
+use super::select::forward_selection;
 use super::signature::{measure, run_end};
-use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
+use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, fit};
@@ -223,6 +223,8 @@ fn candidates_and_departure(
     let departure = departure.map_err(lm_error)?;
     let (baseline, mut fits) = candidates?;
     camera_second_pass(rec, fit_opts, &baseline, &mut fits, noise_px, cancel)?;
+    let again = Again { rec, fit_opts };
+    walk_best_singles_again(&again, ms, levels, &baseline, &mut fits, noise_px, cancel)?;
     Ok((departure, baseline, fits))
 }
 
@@ -276,116 +278,6 @@ fn rank<'a>(baseline: &'a WholeFit, fits: &'a Fits) -> Vec<(Candidate, Option<&'
     }
     ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
     ranked
-}
-
-/// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
-/// single one, leaves the misfit beyond the noise, pairs of the candidates that improved on
-/// the baseline; a pair is named only when it beats every effect alone. Returns the finding,
-/// the model that stands for it (`None`: the baseline) and the pairs tried.
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-fn forward_selection(
-    again: &Again,
-    ms: &Shooting,
-    levels: &[Level],
-    baseline: &WholeFit,
-    ranked: &mut [(Candidate, Option<&WholeFit>)],
-    noise_px: f64,
-    evidence: f64,
-    progress: &Reporter,
-    cancel: &AtomicBool,
-) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
-    let none_score = score(baseline);
-    let (mut finding, chosen) = decide(baseline, ranked, noise_px, evidence);
-    let mut chosen = chosen.unwrap_or(baseline);
-    // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
-    // noise, pairs of the candidates that improved on the baseline.
-    let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
-        progress.pairs();
-        pairs_stage(ms, levels, ranked, cancel)?
-    } else {
-        Vec::new()
-    };
-    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
-    let mut pair_fits = pair_fits;
-    walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, cancel)?;
-    let best_pair = pair_fits
-        .iter()
-        .filter_map(|(_, _, r)| r.as_ref().ok())
-        .min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    let pair_wins = best_pair.is_some_and(|p| {
-        pair_score(p) < score(chosen) - evidence
-            && explains_by(chosen.rms_px(), p.rms_px(), noise_px, MIN_PAIR_EXCESS_CUT)
-    });
-    // Before a pair is named, each of its effects alone from the pair's solution: a single fit
-    // can end in a side valley (rolling friction left at 1.7 px) that the pair's extra number
-    // lets the least squares leave, and then the second effect is not needed.
-    let alone = match best_pair.filter(|_| pair_wins) {
-        Some(p) => single_from_pair(ms, p, cancel)?,
-        None => Vec::new(),
-    };
-    let best_alone = alone.iter().min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    let alone_enough =
-        best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
-    if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
-        finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
-        chosen = p;
-    } else if let Some(a) = best_alone.filter(|a| {
-        alone_enough
-            && pair_score(a) < score(chosen)
-            && pair_score(a) < none_score - evidence
-            && explains(baseline.rms_px(), a.rms_px(), noise_px)
-    }) {
-        finding = Finding::Named(vec![a.kind]);
-        chosen = a;
-        if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
-            (c.rms_px, c.score, c.delta_score, c.strength) =
-                (a.rms_px(), pair_score(a), pair_score(a) - none_score, a.strength);
-        }
-    } else if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
-        // A pair that explains more than any single one is the better partial answer.
-        let share = explained_share(baseline.rms_px(), p.rms_px(), noise_px);
-        if partial.as_ref().is_none_or(|q| share > q.share) {
-            *partial = Some(Partial {
-                effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(),
-                share,
-            });
-        }
-    }
-    let pairs: Vec<PairCandidate> = {
-        let mut v: Vec<PairCandidate> = pair_fits
-            .iter()
-            .map(|(a, b, r)| match r {
-                Ok(w) => PairCandidate {
-                    first: *a,
-                    second: *b,
-                    rms_px: w.rms_px(),
-                    delta_score: pair_score(w) - none_score,
-                    strengths: [
-                        w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1),
-                        w.strength.unwrap_or((f64::NAN, f64::NAN)),
-                    ],
-                    error: None,
-                    seconds: w.seconds,
-                },
-                Err(e) => PairCandidate {
-                    first: *a,
-                    second: *b,
-                    rms_px: f64::NAN,
-                    delta_score: f64::INFINITY,
-                    strengths: [(f64::NAN, f64::NAN); 2],
-                    error: Some(e.to_string()),
-                    seconds: 0.0,
-                },
-            })
-            .collect();
-        v.sort_by(|a, b| a.delta_score.total_cmp(&b.delta_score));
-        v
-    };
-
-    let chosen = (!std::ptr::eq(chosen, baseline)).then(|| chosen.clone());
-    Ok((finding, chosen, pairs))
 }
 
 /// Stage 6: the residuals before and after, the mismatch windows, the signature, the trace:
@@ -525,40 +417,6 @@ fn describe(
     Ok(d)
 }
 
-/// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
-/// baseline by `evidence` and explain its misfit beyond the noise ([`explains`]) is named; else nothing is missing when the baseline is within [`CONSISTENT_RATIO`]
-/// of the noise, and something unexplained when it is not. BIC alone is not enough: where the
-/// baseline misses by far more than the noise its residuals are no white noise, and any extra
-/// parameter that bends the path a little buys thousands of BIC points (a lens fitted to a
-/// sliding ring's recording: -735 for a misfit from 14.6 to 14.2 px).
-fn decide<'a>(
-    baseline: &WholeFit,
-    ranked: &[(Candidate, Option<&'a WholeFit>)],
-    noise_px: f64,
-    evidence: f64,
-) -> (Finding, Option<&'a WholeFit>) {
-    let before = baseline.rms_px();
-    let effects = || {
-        ranked
-            .iter()
-            .filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite())
-    };
-    if let Some((c, w)) =
-        effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px))
-    {
-        return (Finding::Named(vec![c.effect]), *w);
-    }
-    if before <= CONSISTENT_RATIO * noise_px {
-        return (Finding::Nothing, None);
-    }
-    let share = |c: &Candidate| explained_share(before, c.rms_px, noise_px);
-    let partial = effects()
-        .map(|(c, _)| Partial { effects: vec![c.effect], share: share(c) })
-        .filter(|p| p.share > 0.0)
-        .max_by(|a, b| a.share.total_cmp(&b.share));
-    (Finding::Unexplained { partial }, None)
-}
-
 /// The mismatch (from the departure to the last departing window of the baseline fitted up to
 /// it: `sums`, `wins`) and the departing windows after the departure, in seconds; each with
 /// the whole-run baseline's RMS inside it (`before`).
@@ -614,210 +472,6 @@ fn mismatch_windows(
         .max(from + 1)
         .min(sums.len().min(before.len()));
     (Some(window(from..end)), found.into_iter().map(window).collect())
-}
-
-/// A camera candidate that improved on the baseline but still misses beyond the noise is
-/// fitted again from a multiple-shooting fit made with the camera it found. The baseline's
-/// segments were fitted through the wrong camera, and its drag and states carry that into every
-/// stage of the path: a pinhole 373 mm away, tilted 6.5 degrees, was left at 5.0 px this way,
-/// even from the true camera, and reached the noise (0.502 px, the distance and tilt to 0.02%)
-/// from segments fitted through the camera of that first pass. The camera does not change the
-/// motion, so the second multiple-shooting fit sees the motion as it was.
-fn camera_second_pass(
-    rec: &Recording,
-    fit_opts: &FitOptions,
-    baseline: &WholeFit,
-    fits: &mut [(EffectKind, Result<WholeFit, LmError>)],
-    noise_px: f64,
-    cancel: &AtomicBool,
-) -> Result<(), DiagnoseError> {
-    for (kind, r) in fits.iter_mut().filter(|(k, _)| k.is_camera()) {
-        let Ok(first) = r.as_ref() else { continue };
-        if first.cost >= baseline.cost || first.rms_px() <= CONSISTENT_RATIO * noise_px {
-            continue;
-        }
-        let clock = Instant::now();
-        let opts = FitOptions {
-            lens_k1: first.camera.k1,
-            camera_distance_mm: first.camera.distance_mm,
-            camera_tilt_deg: Some(first.camera.tilt_rad.to_degrees()),
-            ..fit_opts.clone()
-        };
-        let base = match fit(rec, &opts, &|_| {}, cancel) {
-            Ok(b) => b,
-            Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            Err(_) => continue,
-        };
-        let ms = base.shooting(&rec.frames);
-        let sh = with_effect(&ms, *kind);
-        let global = sh.spec.to_internal(&sh.spec.initial_values());
-        match fit_path(&sh, global, &base.segment_states, &no_ceiling, &mut |_, _| {}, cancel) {
-            Ok((mut again, _)) if again.cost < first.cost => {
-                again.seconds = first.seconds + clock.elapsed().as_secs_f64();
-                *r = Ok(again);
-            }
-            Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            _ => {}
-        }
-    }
-    Ok(())
-}
-
-/// The best pair by score walked down its path again, from its own solution's drag and
-/// strengths: its first walk began at the baseline's drag, and with two strengths free it
-/// often ends in a side valley that no polishing of the last stage leaves (Reynolds drag with
-/// pivot friction: 0.91 px, unchanged after four more rounds of the last stage; walked again,
-/// 0.57 px). A pair with a camera effect walks from segments fitted through its camera, for
-/// the reason [`camera_second_pass`] gives (the camera options are built as there).
-fn walk_best_pair_again(
-    again: &Again,
-    ms: &Shooting,
-    levels: &[Level],
-    pairs: &mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
-    score: &dyn Fn(&WholeFit) -> f64,
-    cancel: &AtomicBool,
-) -> Result<(), DiagnoseError> {
-    let best = pairs
-        .iter_mut()
-        .filter_map(|(_, _, r)| r.as_mut().ok())
-        .min_by(|a, b| score(a).total_cmp(&score(b)));
-    let Some(p) = best else { return Ok(()) };
-    let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
-    let camera_base = if kinds.iter().any(|k| k.is_camera()) {
-        let opts = FitOptions {
-            lens_k1: p.camera.k1,
-            camera_distance_mm: p.camera.distance_mm,
-            camera_tilt_deg: Some(p.camera.tilt_rad.to_degrees()),
-            ..again.fit_opts.clone()
-        };
-        match fit(again.rec, &opts, &|_| {}, cancel) {
-            Ok(b) => Some(b),
-            Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            Err(_) => None,
-        }
-    } else {
-        None
-    };
-    let (from, states) = match &camera_base {
-        Some(b) => (b.shooting(&again.rec.frames), b.segment_states.clone()),
-        None => {
-            let join = levels.first().ok_or(DiagnoseError::Baseline)?;
-            let mut from = ms.clone();
-            from.segments = join.segments.clone();
-            (from, join.states.clone())
-        }
-    };
-    let sh = with_effects(&with_slip_start(&from, p.model.effects.slip_start), &kinds);
-    match fit_whole(&sh, p.internal.clone(), &states, &mut |_, _| {}, cancel) {
-        Ok(mut walked) if walked.cost < p.cost => {
-            walked.seconds += p.seconds;
-            *p = walked;
-        }
-        Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
-        _ => {}
-    }
-    Ok(())
-}
-
-/// What a fit made again from the recording needs (a multiple-shooting fit through another
-/// camera).
-struct Again<'a> {
-    rec: &'a Recording,
-    fit_opts: &'a FitOptions,
-}
-
-/// Each effect of pair `p` fitted alone over the whole run from the pair's drag, body, start
-/// state and that effect's strength.
-fn single_from_pair(
-    ms: &Shooting,
-    p: &WholeFit,
-    cancel: &AtomicBool,
-) -> Result<Vec<WholeFit>, DiagnoseError> {
-    let members: Vec<(EffectKind, f64)> =
-        p.also.iter().map(|(k, s)| (*k, s.0)).chain(p.strength.map(|s| (p.kind, s.0))).collect();
-    let fits: Vec<Result<WholeFit, LmError>> = {
-        use rayon::prelude::*;
-        members.par_iter().map(|&(k, s)| refit_from(ms, k, p, s, cancel)).collect()
-    };
-    let mut out = Vec::new();
-    for f in fits {
-        match f {
-            Ok(w) => out.push(w),
-            Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            Err(_) => {}
-        }
-    }
-    Ok(out)
-}
-
-/// How many of the best single candidates (by BIC, better than the baseline) the forward
-/// selection pairs with each other. Pairs among the best few and not only with the one named:
-/// where two effects are in a recording, the one named alone is often a third that imitates
-/// both (Reynolds drag and pivot friction together are named rolling friction alone); and
-/// four, not three, because a camera candidate can imitate part of a physical effect and push
-/// one of the pair out of the best three.
-const PAIRED: usize = 4;
-
-/// How many of the best single candidates are each paired with every other candidate, also
-/// those that did nothing alone. An effect can be invisible alone where another is at work:
-/// the baseline's drag absorbs it, or it only shows once the other is in the model (a lens
-/// beside rolling friction: alone 13.70 px against the baseline's 13.72; Reynolds drag beside
-/// pivot friction: alone no better than the baseline at all). Three, not one, because the best
-/// alone can itself be the imitator of a pair's member, and a pair's member alone can end in a
-/// side valley that ranks it third (rolling friction beside a lens: 7.3 px alone, where it
-/// reaches 4.6 px; with it the lens then reaches the noise).
-const LEADS: usize = 3;
-
-/// The pairs of the forward selection, the better one first, each fitted on the baseline's
-/// path: every pair among the [`PAIRED`] best single candidates, and each of the [`LEADS`]
-/// best with every other candidate (slip only where it improved on the baseline alone: its
-/// runs cost most, and a slide the recording shows moves the misfit alone by far).
-fn pairs_stage(
-    ms: &Shooting,
-    levels: &[super::whole::Level],
-    ranked: &[(Candidate, Option<&WholeFit>)],
-    cancel: &AtomicBool,
-) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
-    let fitted: Vec<(&Candidate, &WholeFit)> = ranked
-        .iter()
-        .filter(|(c, _)| c.effect != EffectKind::None)
-        .filter(|(c, _)| c.effect != EffectKind::Slip || c.delta_score < 0.0)
-        .filter_map(|(c, w)| w.map(|w| (c, w)))
-        .collect();
-    let improving: Vec<usize> = (0..fitted.len())
-        .filter(|&i| fitted[i].0.delta_score < 0.0 && fitted[i].1.stopped_at.is_none())
-        .collect();
-    let mut chosen: Vec<(usize, usize)> = Vec::new();
-    let mut add = |i: usize, j: usize| {
-        let (i, j) = (i.min(j), i.max(j));
-        // One camera effect of each kind at most, and the pinhole's tilt once.
-        let both_camera = fitted[i].1.kind.is_camera() && fitted[j].1.kind.is_camera();
-        if i != j && !both_camera && !chosen.contains(&(i, j)) {
-            chosen.push((i, j));
-        }
-    };
-    let best: Vec<usize> = improving.iter().copied().take(PAIRED).collect();
-    for (n, &i) in best.iter().enumerate() {
-        for &j in &best[n + 1..] {
-            add(i, j);
-        }
-    }
-    for &i in improving.iter().take(LEADS) {
-        for j in 0..fitted.len() {
-            add(i, j);
-        }
-    }
-    let todo: Vec<(&WholeFit, &WholeFit)> =
-        chosen.iter().map(|&(i, j)| (fitted[i].1, fitted[j].1)).collect();
-    use rayon::prelude::*;
-    let out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> = todo
-        .par_iter()
-        .map(|(a, b)| (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel)))
-        .collect();
-    if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
-        return Err(DiagnoseError::Cancelled);
-    }
-    Ok(out)
 }
 
 /// The candidates along the baseline's path, with progress.

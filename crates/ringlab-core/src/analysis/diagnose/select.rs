@@ -1,0 +1,267 @@
+//! The decision and the forward selection: which single effect, or pair, is named.
+
+use super::again::{Again, walk_best_pair_again};
+use super::candidates::{fit_pair, refit_from};
+use super::options::DiagnoseError;
+use super::progress::Reporter;
+use super::result::{Candidate, Finding, PairCandidate, Partial};
+use super::rules::{CONSISTENT_RATIO, MIN_EXPLAINED, bic, explained_share, explains};
+use super::whole::{Level, WholeFit};
+use crate::analysis::fit::lm::LmError;
+use crate::analysis::fit::shooting::Shooting;
+use crate::physics::effects::EffectKind;
+use std::sync::atomic::AtomicBool;
+
+/// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
+/// single one, leaves the misfit beyond the noise, pairs of the candidates that improved on
+/// the baseline; a pair is named only when it beats every effect alone. Returns the finding,
+/// the model that stands for it (`None`: the baseline) and the pairs tried.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub(super) fn forward_selection(
+    again: &Again,
+    ms: &Shooting,
+    levels: &[Level],
+    baseline: &WholeFit,
+    ranked: &mut [(Candidate, Option<&WholeFit>)],
+    noise_px: f64,
+    evidence: f64,
+    progress: &Reporter,
+    cancel: &AtomicBool,
+) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let none_score = score(baseline);
+    let (mut finding, chosen) = decide(baseline, ranked, noise_px, evidence);
+    let mut chosen = chosen.unwrap_or(baseline);
+    // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
+    // noise, pairs of the candidates that improved on the baseline.
+    let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
+        progress.pairs();
+        pairs_stage(ms, levels, ranked, noise_px, cancel)?
+    } else {
+        Vec::new()
+    };
+    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let mut pair_fits = pair_fits;
+    walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, cancel)?;
+    let best_pair = pair_fits
+        .iter()
+        .filter_map(|(_, _, r)| r.as_ref().ok())
+        .min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
+    let pair_wins = best_pair.is_some_and(|p| {
+        pair_score(p) < score(chosen) - evidence && explains(chosen.rms_px(), p.rms_px(), noise_px)
+    });
+    // Before a pair is named, each of its effects alone from the pair's solution: a single fit
+    // can end in a side valley (rolling friction left at 1.7 px) that the pair's extra number
+    // lets the least squares leave, and then the second effect is not needed.
+    let alone = match best_pair.filter(|_| pair_wins) {
+        Some(p) => single_from_pair(ms, p, cancel)?,
+        None => Vec::new(),
+    };
+    let best_alone = alone.iter().min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
+    let alone_enough =
+        best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
+    if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
+        finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
+        chosen = p;
+    } else if let Some(a) = best_alone.filter(|a| {
+        alone_enough
+            && pair_score(a) < score(chosen)
+            && pair_score(a) < none_score - evidence
+            && explains(baseline.rms_px(), a.rms_px(), noise_px)
+    }) {
+        finding = Finding::Named(vec![a.kind]);
+        chosen = a;
+        if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
+            (c.rms_px, c.score, c.delta_score, c.strength) =
+                (a.rms_px(), pair_score(a), pair_score(a) - none_score, a.strength);
+        }
+    } else if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
+        // A pair is the better partial answer when it removes at least half of what the best
+        // single one leaves beyond the noise: a second strength always helps a little.
+        let share = explained_share(baseline.rms_px(), p.rms_px(), noise_px);
+        if partial
+            .as_ref()
+            .is_none_or(|q| explained_share(q.rms_px, p.rms_px(), noise_px) >= MIN_EXPLAINED)
+        {
+            *partial = Some(Partial {
+                effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(),
+                share,
+                rms_px: p.rms_px(),
+            });
+        }
+    }
+    let pairs: Vec<PairCandidate> = {
+        let mut v: Vec<PairCandidate> = pair_fits
+            .iter()
+            .map(|(a, b, r)| match r {
+                Ok(w) => PairCandidate {
+                    first: *a,
+                    second: *b,
+                    rms_px: w.rms_px(),
+                    delta_score: pair_score(w) - none_score,
+                    strengths: [
+                        w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1),
+                        w.strength.unwrap_or((f64::NAN, f64::NAN)),
+                    ],
+                    error: None,
+                    seconds: w.seconds,
+                },
+                Err(e) => PairCandidate {
+                    first: *a,
+                    second: *b,
+                    rms_px: f64::NAN,
+                    delta_score: f64::INFINITY,
+                    strengths: [(f64::NAN, f64::NAN); 2],
+                    error: Some(e.to_string()),
+                    seconds: 0.0,
+                },
+            })
+            .collect();
+        v.sort_by(|a, b| a.delta_score.total_cmp(&b.delta_score));
+        v
+    };
+
+    let chosen = (!std::ptr::eq(chosen, baseline)).then(|| chosen.clone());
+    Ok((finding, chosen, pairs))
+}
+
+/// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
+/// baseline by `evidence` and explain its misfit beyond the noise ([`explains`]) is named; else nothing is missing when the baseline is within [`CONSISTENT_RATIO`]
+/// of the noise, and something unexplained when it is not. BIC alone is not enough: where the
+/// baseline misses by far more than the noise its residuals are no white noise, and any extra
+/// parameter that bends the path a little buys thousands of BIC points (a lens fitted to a
+/// sliding ring's recording: -735 for a misfit from 14.6 to 14.2 px).
+pub(super) fn decide<'a>(
+    baseline: &WholeFit,
+    ranked: &[(Candidate, Option<&'a WholeFit>)],
+    noise_px: f64,
+    evidence: f64,
+) -> (Finding, Option<&'a WholeFit>) {
+    let before = baseline.rms_px();
+    let effects = || {
+        ranked
+            .iter()
+            .filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite())
+    };
+    if let Some((c, w)) =
+        effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px))
+    {
+        return (Finding::Named(vec![c.effect]), *w);
+    }
+    if before <= CONSISTENT_RATIO * noise_px {
+        return (Finding::Nothing, None);
+    }
+    let share = |c: &Candidate| explained_share(before, c.rms_px, noise_px);
+    let partial = effects()
+        .map(|(c, _)| Partial { effects: vec![c.effect], share: share(c), rms_px: c.rms_px })
+        .filter(|p| p.share > 0.0)
+        .max_by(|a, b| a.share.total_cmp(&b.share));
+    (Finding::Unexplained { partial }, None)
+}
+
+/// Each effect of pair `p` fitted alone over the whole run from the pair's drag, body, start
+/// state and that effect's strength.
+fn single_from_pair(
+    ms: &Shooting,
+    p: &WholeFit,
+    cancel: &AtomicBool,
+) -> Result<Vec<WholeFit>, DiagnoseError> {
+    let members: Vec<(EffectKind, f64)> =
+        p.also.iter().map(|(k, s)| (*k, s.0)).chain(p.strength.map(|s| (p.kind, s.0))).collect();
+    let fits: Vec<Result<WholeFit, LmError>> = {
+        use rayon::prelude::*;
+        members.par_iter().map(|&(k, s)| refit_from(ms, k, p, s, cancel)).collect()
+    };
+    let mut out = Vec::new();
+    for f in fits {
+        match f {
+            Ok(w) => out.push(w),
+            Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
+            Err(_) => {}
+        }
+    }
+    Ok(out)
+}
+
+/// How many of the best single candidates (by BIC, better than the baseline) the forward
+/// selection pairs with each other. Pairs among the best few and not only with the one named:
+/// where two effects are in a recording, the one named alone is often a third that imitates
+/// both (Reynolds drag and pivot friction together are named rolling friction alone); and
+/// four, not three, because a camera candidate can imitate part of a physical effect and push
+/// one of the pair out of the best three.
+const PAIRED: usize = 4;
+
+/// How many of the best single candidates are each paired with every other candidate, also
+/// those that did nothing alone. An effect can be invisible alone where another is at work:
+/// the baseline's drag absorbs it, or it only shows once the other is in the model (a lens
+/// beside rolling friction: alone 13.70 px against the baseline's 13.72; Reynolds drag beside
+/// pivot friction: alone no better than the baseline at all). Three, not one, because the best
+/// alone can itself be the imitator of a pair's member, and a pair's member alone can end in a
+/// side valley that ranks it third (rolling friction beside a lens: 7.3 px alone, where it
+/// reaches 4.6 px; with it the lens then reaches the noise).
+const LEADS: usize = 3;
+
+/// The pairs of the forward selection, each fitted on the baseline's path: every pair among
+/// the [`PAIRED`] best single candidates, and each of the [`LEADS`] best with every other
+/// candidate (slip only where it improved on the baseline alone: its runs cost most, and a
+/// slide the recording shows moves the misfit alone by far); the second and third leads' pairs
+/// only where none of the others reaches the noise.
+fn pairs_stage(
+    ms: &Shooting,
+    levels: &[Level],
+    ranked: &[(Candidate, Option<&WholeFit>)],
+    noise_px: f64,
+    cancel: &AtomicBool,
+) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
+    let fitted: Vec<(&Candidate, &WholeFit)> = ranked
+        .iter()
+        .filter(|(c, _)| c.effect != EffectKind::None)
+        .filter(|(c, _)| c.effect != EffectKind::Slip || c.delta_score < 0.0)
+        .filter_map(|(c, w)| w.map(|w| (c, w)))
+        .collect();
+    let improving: Vec<usize> = (0..fitted.len())
+        .filter(|&i| fitted[i].0.delta_score < 0.0 && fitted[i].1.stopped_at.is_none())
+        .collect();
+    // Two rounds: the best candidate with every other and the pairs among the best few first;
+    // the other leads only where no pair of the first round reaches the noise (a pair that
+    // does leaves nothing for another to explain).
+    let mut rounds: [Vec<(usize, usize)>; 2] = [Vec::new(), Vec::new()];
+    let mut add = |round: usize, i: usize, j: usize| {
+        let (i, j) = (i.min(j), i.max(j));
+        // One camera effect of each kind at most, and the pinhole's tilt once.
+        let both_camera = fitted[i].1.kind.is_camera() && fitted[j].1.kind.is_camera();
+        if i != j && !both_camera && !rounds.iter().any(|r| r.contains(&(i, j))) {
+            rounds[round].push((i, j));
+        }
+    };
+    let best: Vec<usize> = improving.iter().copied().take(PAIRED).collect();
+    for (n, &i) in best.iter().enumerate() {
+        for &j in &best[n + 1..] {
+            add(0, i, j);
+        }
+    }
+    for (n, &i) in improving.iter().take(LEADS).enumerate() {
+        for j in 0..fitted.len() {
+            add(n.min(1), i, j);
+        }
+    }
+    let mut out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> = Vec::new();
+    for round in &rounds {
+        let reached = out
+            .iter()
+            .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px));
+        if reached {
+            break;
+        }
+        use rayon::prelude::*;
+        out.par_extend(round.par_iter().map(|&(i, j)| {
+            let (a, b) = (fitted[i].1, fitted[j].1);
+            (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel))
+        }));
+        if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
+            return Err(DiagnoseError::Cancelled);
+        }
+    }
+    Ok(out)
+}
