@@ -33,13 +33,7 @@ pub(super) fn camera_second_pass(
             continue;
         }
         let clock = Instant::now();
-        let opts = FitOptions {
-            lens_k1: first.camera.k1,
-            camera_distance_mm: first.camera.distance_mm,
-            camera_tilt_deg: Some(first.camera.tilt_rad.to_degrees()),
-            ..fit_opts.clone()
-        };
-        let base = match fit(rec, &opts, &|_| {}, cancel) {
+        let base = match fit(rec, &through_camera_of(first, fit_opts), &|_| {}, cancel) {
             Ok(b) => b,
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => continue,
@@ -115,7 +109,7 @@ const WALKED_AGAIN: usize = 2;
 
 /// Fit `p` walked down its path again from its own solution's drag and strengths, kept where
 /// it ends better. A fit with a camera effect walks from segments fitted through its camera,
-/// for the reason [`camera_second_pass`] gives (the camera options are built as there).
+/// for the reason [`camera_second_pass`] gives.
 pub(super) fn walk_again(
     again: &Again,
     ms: &Shooting,
@@ -125,13 +119,7 @@ pub(super) fn walk_again(
 ) -> Result<(), DiagnoseError> {
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
     let camera_base = if kinds.iter().any(|k| k.is_camera()) {
-        let opts = FitOptions {
-            lens_k1: p.camera.k1,
-            camera_distance_mm: p.camera.distance_mm,
-            camera_tilt_deg: Some(p.camera.tilt_rad.to_degrees()),
-            ..again.fit_opts.clone()
-        };
-        match fit(again.rec, &opts, &|_| {}, cancel) {
+        match fit(again.rec, &through_camera_of(p, again.fit_opts), &|_| {}, cancel) {
             Ok(b) => Some(b),
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => None,
@@ -165,4 +153,14 @@ pub(super) fn walk_again(
 pub(super) struct Again<'a> {
     pub(super) rec: &'a Recording,
     pub(super) fit_opts: &'a FitOptions,
+}
+
+/// The multiple-shooting fit's options with the camera that fit `w` found held fixed.
+fn through_camera_of(w: &WholeFit, fit_opts: &FitOptions) -> FitOptions {
+    FitOptions {
+        lens_k1: w.camera.k1,
+        camera_distance_mm: w.camera.distance_mm,
+        camera_tilt_deg: Some(w.camera.tilt_rad.to_degrees()),
+        ..fit_opts.clone()
+    }
 }
