@@ -72,6 +72,7 @@ pub fn diagnose(
         progress,
         cancel,
     )?;
+    laps.lap("pairs and the decision");
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
     let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
     let mut d = describe(
