@@ -27,6 +27,18 @@ pub fn check_tracks(rec: &Recording) -> CheckedTracks {
     CheckedTracks { recording: Recording { frames, ..rec.clone() }, glitches, noise }
 }
 
+/// `tracks` with `more` glitches left out too, and the noise estimated again without them.
+pub fn with_more_glitches(tracks: &CheckedTracks, more: &[Glitch]) -> CheckedTracks {
+    if more.is_empty() {
+        return tracks.clone();
+    }
+    let frames = without_glitches(&tracks.recording.frames, more);
+    let noise = track_noise(&frames, &|_, _| false).or(tracks.noise);
+    let mut glitches: Vec<Glitch> = tracks.glitches.iter().chain(more).copied().collect();
+    glitches.sort_by_key(|g| (g.frame, g.mark));
+    CheckedTracks { recording: Recording { frames, ..tracks.recording.clone() }, glitches, noise }
+}
+
 /// The recording as it is, with the noise of its tracks (no glitch search).
 pub fn as_tracked(rec: &Recording) -> CheckedTracks {
     CheckedTracks {

@@ -20,8 +20,9 @@ use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, fit};
 use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
-use crate::recording::tracks::{CheckedTracks, check_tracks};
-use crate::recording::{FrameMarks, Recording};
+use crate::recording::glitches::{Glitch, find_glitches_against};
+use crate::recording::tracks::{CheckedTracks, check_tracks, with_more_glitches};
+use crate::recording::{FrameMarks, MARKS, Recording};
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -47,9 +48,19 @@ pub fn diagnose(
     let opts = &suspects(rec, opts)?;
     // The tracker's glitches out of every fit; the noise from the tracks alone.
     let tracks = check_tracks(rec);
-    let rec = &tracks.recording;
     let fit_opts = FitOptions { leave_out_glitches: false, ..opts.fit.clone() };
-    let base = baseline_fit(rec, &fit_opts, progress, cancel)?;
+    let base = baseline_fit(&tracks.recording, &fit_opts, progress, cancel)?;
+    // The glitches the tracks alone let through, found against that fit, and the fit again
+    // without them.
+    let more = glitches_against(&base, &tracks);
+    let (tracks, base) = if more.is_empty() {
+        (tracks, base)
+    } else {
+        let tracks = with_more_glitches(&tracks, &more);
+        let base = baseline_fit(&tracks.recording, &fit_opts, progress, cancel)?;
+        (tracks, base)
+    };
+    let rec = &tracks.recording;
     laps.lap("multiple-shooting fit");
     let ms = base.shooting(&rec.frames);
     let noise = Noise::of(&base, rec);
@@ -174,6 +185,23 @@ fn baseline_fit(
     fit(rec, fit_opts, &|p: &FitProgress| progress.baseline_fit(p), cancel).map_err(|e| {
         if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) }
     })
+}
+
+/// Positions that the multiple-shooting fit `base` predicts far beyond the noise and beyond
+/// their neighbours' misfit: a tracker's glitches that the tracks alone did not show
+/// ([`find_glitches_against`]).
+fn glitches_against(base: &FitResult, tracks: &CheckedTracks) -> Vec<Glitch> {
+    let Some(noise) = tracks.noise else { return Vec::new() };
+    let frames = &tracks.recording.frames;
+    let ms = base.shooting(frames);
+    let mut predicted: Vec<Option<[[f64; 2]; MARKS]>> = vec![None; frames.len()];
+    for (s, (span, y0)) in ms.segments.iter().zip(&base.segment_states).enumerate() {
+        let Some(marks) = ms.predict(&base.model, &base.camera, s, y0) else { continue };
+        for (slot, m) in predicted[span.clone()].iter_mut().zip(marks) {
+            *slot = Some(m);
+        }
+    }
+    find_glitches_against(frames, &predicted, noise.px, &tracks.glitches)
 }
 
 /// Stage 2: the baseline over the whole run (`whole`), from the segments' states.
