@@ -60,6 +60,35 @@ fn the_sample_is_none_with_json_and_a_report() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The independent simulator's recording with a tracker's faults: every position left out is
+/// listed by its frame number in the file and its mark, and the swapped labels (1 and 3 in
+/// that recording) are most of those found swapped.
+#[test]
+fn the_glitches_left_out_are_listed_by_frame_and_mark() {
+    let rec = common::test_data("independent/glitches.csv");
+    let out = ringlab(&["diagnose", rec.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let marks = v["glitch_marks"].as_array().expect("glitch_marks");
+    assert_eq!(Some(marks.len() as u64), v["glitches"].as_u64());
+    assert!(marks.len() >= 40, "{} glitches", marks.len());
+    let frames = v["frames"].as_u64().unwrap();
+    for g in marks {
+        assert!(g["frame"].as_u64().is_some_and(|f| f < frames), "{g}");
+        assert!(g["mark"].as_u64().is_some_and(|m| (1..=4).contains(&m)), "{g}");
+        assert!(g["kind"] == "outlier" || g["kind"] == "swapped", "{g}");
+    }
+    let swapped: Vec<u64> = marks
+        .iter()
+        .filter(|g| g["kind"] == "swapped")
+        .map(|g| g["mark"].as_u64().unwrap())
+        .collect();
+    // A frame may hold an outlier beside the swap, and its mark is counted as swapped too.
+    let one_or_three = swapped.iter().filter(|m| **m == 1 || **m == 3).count();
+    assert!(swapped.contains(&1) && swapped.contains(&3), "{swapped:?}");
+    assert!(one_or_three * 10 >= swapped.len() * 8, "{swapped:?}");
+}
+
 #[test]
 fn bad_files_and_flags_are_clear_errors() {
     assert_fails_with(&["diagnose", "no-such-file.csv"], &["no-such-file.csv"]);

@@ -8,6 +8,7 @@ use ringlab::analysis::diagnose::{
     CONSISTENT_RATIO, DiagnoseOptions, DiagnoseProgress, Diagnosis, Finding, diagnose,
 };
 use ringlab::physics::{EffectKind, SlipStart};
+use ringlab::recording::glitches::GlitchKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -60,6 +61,8 @@ pub struct DiagnoseJson {
     pub partial: Option<PartialJson>,
     /// Tracked mark positions left out as the tracker's glitches.
     pub glitches: usize,
+    /// Each of them: the frame number (as in the file), the mark (1 to 4) and what it was.
+    pub glitch_marks: Vec<GlitchJson>,
     /// The baseline is `none` only within this many times the noise.
     pub consistent_ratio: f64,
     pub mismatch: Option<WindowJson>,
@@ -75,6 +78,14 @@ pub struct DiagnoseJson {
     pub frames: usize,
     pub frames_fitted: usize,
     pub segments_rms_px: f64,
+}
+
+#[derive(Serialize, Debug)]
+pub struct GlitchJson {
+    pub frame: u64,
+    pub mark: usize,
+    /// `outlier` (off its own track) or `swapped` (a label exchanged with another mark's).
+    pub kind: &'static str,
 }
 
 #[derive(Serialize, Debug)]
@@ -191,6 +202,18 @@ impl DiagnoseJson {
                 _ => None,
             },
             glitches: d.glitches.len(),
+            glitch_marks: d
+                .glitches
+                .iter()
+                .map(|g| GlitchJson {
+                    frame: d.first_frame + g.frame as u64,
+                    mark: g.mark + 1,
+                    kind: match g.kind {
+                        GlitchKind::Outlier => "outlier",
+                        GlitchKind::Swapped => "swapped",
+                    },
+                })
+                .collect(),
             consistent_ratio: CONSISTENT_RATIO,
             mismatch: d.mismatch.as_ref().map(window),
             before: fit(&d.before),

@@ -34,6 +34,48 @@ pub struct NoiseEstimate {
     pub differences: usize,
 }
 
+/// Differences beyond this many scales are left out of the second moment (a glitch's lie tens
+/// of scales off).
+const CLIP_SCALES: f64 = 3.0;
+
+/// The variance of a standard normal variable kept within `+-CLIP_SCALES`:
+/// `1 - 2 c phi(c) / (2 Phi(c) - 1)` at `c = 3`.
+const CLIPPED_VARIANCE: f64 = 0.973_336_924;
+
+/// The standard deviation of the Gaussian bulk of `|d|`, robust to outliers. The median of
+/// `|d|` alone starts it; but a tracker that writes whole pixels makes every difference an
+/// integer and the median jumps between integers (0.3 px of noise rounded to pixels read as
+/// 0.33 px instead of 0.42 px). So the second moment of the differences within
+/// [`CLIP_SCALES`] of the current scale, corrected for the clipping, refines it until it
+/// settles: it varies smoothly with the data whatever their rounding.
+fn robust_scale(abs_diffs: &mut [f64]) -> f64 {
+    let mid = abs_diffs.len() / 2;
+    let median = *abs_diffs.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let mut scale = MAD_TO_SIGMA * median;
+    if !(scale > 0.0) {
+        // More than half the differences are zero: start from their overall size instead.
+        let mean = abs_diffs.iter().sum::<f64>() / abs_diffs.len() as f64;
+        scale = mean * (std::f64::consts::PI / 2.0).sqrt();
+    }
+    for _ in 0..20 {
+        let clip = CLIP_SCALES * scale;
+        let (sum, count) = abs_diffs
+            .iter()
+            .filter(|d| **d <= clip)
+            .fold((0.0, 0usize), |(s, c), d| (s + d * d, c + 1));
+        if count == 0 {
+            break;
+        }
+        let next = (sum / count as f64 / CLIPPED_VARIANCE).sqrt();
+        let settled = (next - scale).abs() <= 1e-6 * scale;
+        scale = next;
+        if settled {
+            break;
+        }
+    }
+    scale
+}
+
 /// `C(n, k)` as a float.
 fn binomial(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |acc, j| acc * (n - j) as f64 / (j + 1) as f64)
@@ -67,9 +109,7 @@ pub fn track_noise(
         if diffs.len() < MIN_DIFFERENCES {
             continue;
         }
-        let mid = diffs.len() / 2;
-        let median = *diffs.select_nth_unstable_by(mid, f64::total_cmp).1;
-        let px = MAD_TO_SIGMA * median / binomial(2 * order, order).sqrt();
+        let px = robust_scale(&mut diffs) / binomial(2 * order, order).sqrt();
         if px > 0.0 && best.is_none_or(|b| px < b.px) {
             best = Some(NoiseEstimate { px, order, differences: diffs.len() });
         }
@@ -119,6 +159,18 @@ pub(crate) mod tests {
         }
         let est = track_noise(&frames, &|_, _| false).unwrap();
         assert!((est.px / 0.5 - 1.0).abs() < 0.1, "{est:?}");
+    }
+
+    #[test]
+    fn whole_pixel_tracks_count_their_rounding_as_noise() {
+        // 0.3 px of noise rounded to whole pixels: sqrt(0.3^2 + 1/12) = 0.416 px a coordinate.
+        let frames: Vec<FrameMarks> = spinning(2000, 0.33, 0.3, 5)
+            .into_iter()
+            .map(|f| f.map(|m| m.map(|p| [p[0].round(), p[1].round()])))
+            .collect();
+        let est = track_noise(&frames, &|_, _| false).unwrap();
+        let truth = (0.3f64.powi(2) + 1.0 / 12.0).sqrt();
+        assert!((est.px / truth - 1.0).abs() < 0.06, "{est:?} against {truth}");
     }
 
     #[test]

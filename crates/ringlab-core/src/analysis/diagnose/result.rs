@@ -251,6 +251,8 @@ pub struct Diagnosis {
     pub segments_rms_px: f64,
     pub segments: usize,
     pub frames: usize,
+    /// The frame number (as in the file) of the first frame; `glitches` index from it.
+    pub first_frame: u64,
     pub frames_fitted: usize,
     pub fps: f64,
     /// Wall-clock time of each stage (s): the multiple-shooting fit, the baseline's path with

@@ -438,6 +438,7 @@ fn describe(
         segments_rms_px: base.rms_px,
         segments: base.segments.len(),
         frames: rec.frames.len(),
+        first_frame: rec.first_frame,
         frames_fitted: span.len(),
         fps: rec.header.fps,
         stage_seconds,
