@@ -6,63 +6,10 @@
 //! below 0.15 noise.
 
 mod common;
+mod said;
 
-use ringlab_core::analysis::diagnose::{DiagnoseOptions, Diagnosis, Finding, diagnose};
-use ringlab_core::recording::read_recording;
-use std::sync::atomic::AtomicBool;
-
-struct Truth {
-    left_out: Vec<String>,
-    noise_px: f64,
-}
-
-fn truth(name: &str) -> Truth {
-    let text =
-        std::fs::read_to_string(common::test_data("independent/truth.json")).expect("truth.json");
-    let all: serde_json::Value = serde_json::from_str(&text).expect("truth.json is JSON");
-    let t = &all[name];
-    let left_out = t["left_out"]
-        .as_array()
-        .expect("left_out")
-        .iter()
-        .map(|v| v.as_str().expect("a name").to_string())
-        .collect();
-    Truth { left_out, noise_px: t["noise_px"].as_f64().expect("noise_px") }
-}
-
-fn run(name: &str) -> (Diagnosis, Truth) {
-    let rec = read_recording(&common::test_data(&format!("independent/{name}.csv")))
-        .expect("a readable recording");
-    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
-        .expect("a diagnosis");
-    (d, truth(name))
-}
-
-fn check(name: &str) -> Diagnosis {
-    let (d, truth) = run(name);
-    let said: Vec<String> = match &d.finding {
-        Finding::Nothing => vec!["none".into()],
-        Finding::Unexplained { .. } => vec!["unexplained".into()],
-        Finding::Named(k) => k.iter().map(|k| k.name().to_string()).collect(),
-    };
-    let (mut want, mut got) = (truth.left_out.clone(), said.clone());
-    want.sort();
-    got.sort();
-    assert_eq!(got, want, "{name}: {}", d.explanation);
-    assert!(
-        (d.noise_px / truth.noise_px - 1.0).abs() < 0.2,
-        "{name}: noise {} against {}",
-        d.noise_px,
-        truth.noise_px
-    );
-    if !d.finding.named().is_empty() {
-        let (before, after) = (d.excess_px(d.before.rms_px), d.excess_px(d.after.rms_px));
-        assert!(
-            after <= before / 4.0 || after < 0.15 * d.noise_px,
-            "{name}: excess {before} -> {after} px"
-        );
-    }
-    d
+fn check(name: &str) -> ringlab_core::analysis::diagnose::Diagnosis {
+    said::check("independent", name)
 }
 
 /// The other simulator starts its hybrid contact rolling beyond the friction cone and slides

@@ -125,11 +125,8 @@ impl Family {
             "pair" => {
                 let (a, b) = rest.split_once('+')?;
                 let (a, b) = (effect(a)?, effect(b)?);
-                (a != b
-                    && a != EffectKind::None
-                    && b != EffectKind::None
-                    && !(a.is_camera() && b.is_camera()))
-                .then_some(Family::Pair(a, b))
+                (a != b && a != EffectKind::None && b != EffectKind::None)
+                    .then_some(Family::Pair(a, b))
             }
             "camera-known" => match rest {
                 "pinhole" => Some(Family::CameraKnown { tilted: false }),
@@ -141,11 +138,12 @@ impl Family {
     }
 
     /// The pairs the bench conceals: drags of two laws, a contact torque with a camera effect,
-    /// a physical effect with the pinhole.
-    pub const PAIRS: [(EffectKind, EffectKind); 3] = [
+    /// a physical effect with the pinhole, and a real camera (a lens and a tilted pinhole).
+    pub const PAIRS: [(EffectKind, EffectKind); 4] = [
         (EffectKind::ReynoldsDrag, EffectKind::PivotFriction),
         (EffectKind::RollingFriction, EffectKind::CameraDistortion),
         (EffectKind::TranslationalDrag, EffectKind::CameraPerspective),
+        (EffectKind::CameraDistortion, EffectKind::CameraPerspective),
     ];
 
     /// Every family of the bench.
@@ -256,6 +254,11 @@ pub fn family_recording(family: Family, seed: u64) -> Result<Recording, String> 
             }
             if b == EffectKind::CameraPerspective {
                 anywhere(&mut case, &mut rng);
+                if a.is_camera() {
+                    // A real camera: tilted as the single pinhole's is (drawn after the rest,
+                    // so the other pairs' recordings stay as they were).
+                    opts.camera_tilt_deg = 12.0 * (2.0 * rng.uniform() - 1.0);
+                }
             }
             if a.is_physical() {
                 opts.effect = Some((b, strength));
