@@ -379,6 +379,8 @@ def make(name, spec, rng):
     target = (where - 0.5) * span_mm * np.array([1, -1])
     pts[:, :, :2] += target - (lo + hi) / 2
     px = np.array([[cam.project(p) for p in f] for f in pts])
+    if spec.get("reverse_marks"):
+        px = px[:, [0, 3, 2, 1]]
     # the tracker: noise (white or correlated), quantisation, outliers, swaps, lost marks
     sigma = spec.get("noise_px", 0.5)
     corr = spec.get("noise_corr", 0.0)

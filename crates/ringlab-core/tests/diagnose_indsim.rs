@@ -2,7 +2,8 @@
 //! `tools/indsim/indsim.py`, written apart from ringlab: its own integrator, contact and
 //! camera), each kept because the diagnosis once got it wrong: a tracker that writes whole
 //! pixels (its noise was read too low), a lens beside a pinhole (no pair of camera effects was
-//! tried), pincushion distortion, glitches with swaps of adjacent marks, and a table that is
+//! tried), a sliding ring filmed through a pinhole (slip alone never left the baseline through
+//! the wrong camera), pincushion distortion, glitches with swaps of adjacent marks, and a table that is
 //! not level (physics no candidate has: `unexplained`, never another effect's name).
 
 mod common;
@@ -38,4 +39,14 @@ fn glitches_with_adjacent_swaps_are_left_out() {
 #[test]
 fn a_table_that_is_not_level_is_unexplained() {
     said::check("indsim", "table-slope");
+}
+
+#[test]
+fn slip_filmed_through_a_pinhole_is_named_with_the_camera() {
+    let d = said::check("indsim", "slip-persp");
+    // mu = 0.40 and 500 mm in truth.json.
+    let mu = d.after.model.effects.slip_mu.expect("a sliding contact");
+    assert!((mu - 0.40).abs() < 0.01, "mu {mu}");
+    let distance = d.after.camera.distance_mm.expect("a pinhole");
+    assert!((distance / 500.0 - 1.0).abs() < 0.05, "{distance} mm");
 }

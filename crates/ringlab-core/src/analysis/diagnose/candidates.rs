@@ -209,7 +209,7 @@ fn first_stage(
 pub const CANDIDATE_STEPS_PER_FRAME: u64 = 6_000;
 
 /// `sh` with a budget of its own for one candidate's fit.
-fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
+pub(super) fn with_budget(mut sh: Shooting<'_>) -> Shooting<'_> {
     let frames = sh.observed.len() as u64;
     sh.budget = Some(Arc::new(WorkBudget::new(CANDIDATE_STEPS_PER_FRAME * frames)));
     sh

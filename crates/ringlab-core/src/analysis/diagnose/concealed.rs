@@ -138,12 +138,14 @@ impl Family {
     }
 
     /// The pairs the bench conceals: drags of two laws, a contact torque with a camera effect,
-    /// a physical effect with the pinhole, and a real camera (a lens and a tilted pinhole).
-    pub const PAIRS: [(EffectKind, EffectKind); 4] = [
+    /// a physical effect with the pinhole, a real camera (a lens and a tilted pinhole), and a
+    /// sliding ring filmed through a pinhole.
+    pub const PAIRS: [(EffectKind, EffectKind); 5] = [
         (EffectKind::ReynoldsDrag, EffectKind::PivotFriction),
         (EffectKind::RollingFriction, EffectKind::CameraDistortion),
         (EffectKind::TranslationalDrag, EffectKind::CameraPerspective),
         (EffectKind::CameraDistortion, EffectKind::CameraPerspective),
+        (EffectKind::Slip, EffectKind::CameraPerspective),
     ];
 
     /// Every family of the bench.

@@ -1,6 +1,6 @@
 //! The decision and the forward selection: which single effect, or pair, is named.
 
-use super::again::{Again, walk_best_pair_again};
+use super::again::{Again, slip_through_camera, walk_best_pair_again};
 use super::candidates::{fit_pair, refit_from};
 use super::options::DiagnoseError;
 use super::progress::Reporter;
@@ -43,7 +43,13 @@ pub(super) fn forward_selection(
     };
     let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let mut pair_fits = pair_fits;
+    if let Some(lead) = camera_lead_without_slip(ranked, &pair_fits)
+        && let Some(p) = slip_through_camera(again, ms, lead, cancel)?
+    {
+        pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
+    }
     walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, cancel)?;
+    slip_pair_through_its_camera(again, ms, &mut pair_fits, &pair_score, noise_px, cancel)?;
     let best_pair = pair_fits
         .iter()
         .filter_map(|(_, _, r)| r.as_ref().ok())
@@ -95,9 +101,10 @@ pub(super) fn forward_selection(
         let mut v: Vec<PairCandidate> = pair_fits
             .iter()
             .map(|(a, b, r)| match r {
+                // The fit's own order (a pair fitted again may hold its effects the other way).
                 Ok(w) => PairCandidate {
-                    first: *a,
-                    second: *b,
+                    first: w.also.first().map_or(*a, |x| x.0),
+                    second: w.kind,
                     rms_px: w.rms_px(),
                     delta_score: pair_score(w) - none_score,
                     strengths: [
@@ -124,6 +131,53 @@ pub(super) fn forward_selection(
 
     let chosen = (!std::ptr::eq(chosen, baseline)).then(|| chosen.clone());
     Ok((finding, chosen, pairs))
+}
+
+/// The best pair where it is slip beside a camera effect and still misses beyond the noise:
+/// slip fitted again through the pair's camera ([`slip_through_camera`]), kept where better.
+fn slip_pair_through_its_camera(
+    again: &Again,
+    ms: &Shooting,
+    pairs: &mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    score: &dyn Fn(&WholeFit) -> f64,
+    noise_px: f64,
+    cancel: &AtomicBool,
+) -> Result<(), DiagnoseError> {
+    let best = pairs
+        .iter_mut()
+        .filter_map(|(_, _, r)| r.as_mut().ok())
+        .min_by(|a, b| score(a).total_cmp(&score(b)));
+    let Some(p) = best else { return Ok(()) };
+    let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
+    let slip_with_camera = kinds.contains(&EffectKind::Slip) && kinds.iter().any(|k| k.is_camera());
+    if !slip_with_camera || p.rms_px() <= CONSISTENT_RATIO * noise_px {
+        return Ok(());
+    }
+    if let Some(again) = slip_through_camera(again, ms, p, cancel)?
+        && again.cost < p.cost
+    {
+        let seconds = p.seconds + again.seconds;
+        *p = WholeFit { seconds, ..again };
+    }
+    Ok(())
+}
+
+/// The best single candidate where it is a camera effect and slip was offered but not paired
+/// (it did not improve on the baseline alone): then slip is fitted through that camera
+/// ([`slip_through_camera`]). Only where the pairs were fitted at all.
+fn camera_lead_without_slip<'a>(
+    ranked: &[(Candidate, Option<&'a WholeFit>)],
+    pair_fits: &[(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+) -> Option<&'a WholeFit> {
+    if pair_fits.is_empty() {
+        return None;
+    }
+    let slip = ranked.iter().find(|(c, _)| c.effect == EffectKind::Slip)?;
+    if slip.0.delta_score < 0.0 {
+        return None;
+    }
+    let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
+    (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
 }
 
 /// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
