@@ -128,17 +128,9 @@ pub fn find_glitches(frames: &[FrameMarks], noise_px: f64) -> Vec<Glitch> {
                 if bad[i][mark] {
                     continue;
                 }
-                let mut near: Vec<f64> = (i.saturating_sub(SCATTER_HALF_WIDTH)
-                    ..(i + SCATTER_HALF_WIDTH + 1).min(n))
-                    .filter(|&j| !bad[j][mark] && !suspect[j])
-                    .filter_map(|j| raw[j].map(|(r, f)| r / f))
-                    .collect();
-                let scatter = if near.len() >= 8 {
-                    let mid = near.len() / 2;
-                    *near.select_nth_unstable_by(mid, f64::total_cmp).1 / RAYLEIGH_MEDIAN
-                } else {
-                    0.0
-                };
+                let scatter = local_scatter(i, n, |j| {
+                    raw[j].filter(|_| !bad[j][mark] && !suspect[j]).map(|(r, f)| r / f)
+                });
                 z[i][mark] = r / (factor * noise_px.max(scatter));
             }
         }
@@ -159,24 +151,46 @@ pub fn find_glitches(frames: &[FrameMarks], noise_px: f64) -> Vec<Glitch> {
                 continue;
             }
         }
-        for mark in 0..MARKS {
-            for i in 0..n {
-                let zi = z[i][mark];
-                let lo = i.saturating_sub(HALF_WIDTH);
-                let hi = (i + HALF_WIDTH + 1).min(n);
-                if zi > THRESHOLD && (lo..hi).all(|j| z[j][mark] <= zi) {
-                    bad[i][mark] = true;
-                    found.push(Glitch { frame: i, mark, kind: GlitchKind::Outlier });
-                    new += 1;
-                }
-            }
-        }
+        new += flag_outliers(&z, &mut bad, &mut found);
         if new == 0 {
             break;
         }
     }
     found.sort_by_key(|g| (g.frame, g.mark));
     found
+}
+
+/// The per-coordinate scale of the residuals near frame `i` (of `n`; `residual(j)`, None where
+/// left out): their median length over [`RAYLEIGH_MEDIAN`], 0 with fewer than eight.
+fn local_scatter(i: usize, n: usize, residual: impl Fn(usize) -> Option<f64>) -> f64 {
+    let mut near: Vec<f64> = (i.saturating_sub(SCATTER_HALF_WIDTH)
+        ..(i + SCATTER_HALF_WIDTH + 1).min(n))
+        .filter_map(residual)
+        .collect();
+    if near.len() < 8 {
+        return 0.0;
+    }
+    let mid = near.len() / 2;
+    *near.select_nth_unstable_by(mid, f64::total_cmp).1 / RAYLEIGH_MEDIAN
+}
+
+/// Positions whose scaled residual `z` lies beyond [`THRESHOLD`] and is the worst of its
+/// neighbourhood ([`HALF_WIDTH`] frames each side), left out as outliers; how many.
+fn flag_outliers(z: &[[f64; MARKS]], bad: &mut [[bool; MARKS]], found: &mut Vec<Glitch>) -> usize {
+    let n = z.len();
+    let mut new = 0;
+    for mark in 0..MARKS {
+        for i in 0..n {
+            let zi = z[i][mark];
+            let (lo, hi) = (i.saturating_sub(HALF_WIDTH), (i + HALF_WIDTH + 1).min(n));
+            if zi > THRESHOLD && (lo..hi).all(|j| z[j][mark] <= zi) {
+                bad[i][mark] = true;
+                found.push(Glitch { frame: i, mark, kind: GlitchKind::Outlier });
+                new += 1;
+            }
+        }
+    }
+    new
 }
 
 /// The glitches that the tracks alone let through, found against a model's prediction of every
@@ -214,34 +228,11 @@ pub fn find_glitches_against(
         for mark in 0..MARKS {
             for i in 0..n {
                 let Some(r) = residual[i][mark].filter(|_| !bad[i][mark]) else { continue };
-                let mut near: Vec<f64> = (i.saturating_sub(SCATTER_HALF_WIDTH)
-                    ..(i + SCATTER_HALF_WIDTH + 1).min(n))
-                    .filter(|&j| !bad[j][mark])
-                    .filter_map(|j| residual[j][mark])
-                    .collect();
-                let scatter = if near.len() >= 8 {
-                    let mid = near.len() / 2;
-                    *near.select_nth_unstable_by(mid, f64::total_cmp).1 / RAYLEIGH_MEDIAN
-                } else {
-                    0.0
-                };
+                let scatter = local_scatter(i, n, |j| residual[j][mark].filter(|_| !bad[j][mark]));
                 z[i][mark] = r / noise_px.max(scatter);
             }
         }
-        let mut new = 0;
-        for mark in 0..MARKS {
-            for i in 0..n {
-                let zi = z[i][mark];
-                let lo = i.saturating_sub(HALF_WIDTH);
-                let hi = (i + HALF_WIDTH + 1).min(n);
-                if zi > THRESHOLD && (lo..hi).all(|j| z[j][mark] <= zi) {
-                    bad[i][mark] = true;
-                    found.push(Glitch { frame: i, mark, kind: GlitchKind::Outlier });
-                    new += 1;
-                }
-            }
-        }
-        if new == 0 {
+        if flag_outliers(&z, &mut bad, &mut found) == 0 {
             break;
         }
     }

@@ -65,14 +65,21 @@ pub(super) fn walk_best_pair_again(
     score: &dyn Fn(&WholeFit) -> f64,
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
-    let best = pairs
-        .iter_mut()
-        .filter_map(|(_, _, r)| r.as_mut().ok())
-        .min_by(|a, b| score(a).total_cmp(&score(b)));
-    match best {
+    match best_pair(pairs, score) {
         Some(p) => walk_again(again, ms, levels, p, cancel),
         None => Ok(()),
     }
+}
+
+/// The pair fitted with the best (lowest) `score`.
+pub(super) fn best_pair<'a>(
+    pairs: &'a mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    score: &dyn Fn(&WholeFit) -> f64,
+) -> Option<&'a mut WholeFit> {
+    pairs
+        .iter_mut()
+        .filter_map(|(_, _, r)| r.as_mut().ok())
+        .min_by(|a, b| score(a).total_cmp(&score(b)))
 }
 
 /// The [`WALKED_AGAIN`] best physical candidates that improved on the baseline but still miss

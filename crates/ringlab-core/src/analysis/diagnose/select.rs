@@ -1,6 +1,6 @@
 //! The decision and the forward selection: which single effect, or pair, is named.
 
-use super::again::{Again, slip_through_camera, walk_best_pair_again};
+use super::again::{Again, best_pair, slip_through_camera, walk_best_pair_again};
 use super::candidates::{fit_pair, refit_from};
 use super::options::DiagnoseError;
 use super::progress::Reporter;
@@ -143,11 +143,7 @@ fn slip_pair_through_its_camera(
     noise_px: f64,
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
-    let best = pairs
-        .iter_mut()
-        .filter_map(|(_, _, r)| r.as_mut().ok())
-        .min_by(|a, b| score(a).total_cmp(&score(b)));
-    let Some(p) = best else { return Ok(()) };
+    let Some(p) = best_pair(pairs, score) else { return Ok(()) };
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
     let slip_with_camera = kinds.contains(&EffectKind::Slip) && kinds.iter().any(|k| k.is_camera());
     if !slip_with_camera || p.rms_px() <= CONSISTENT_RATIO * noise_px {
