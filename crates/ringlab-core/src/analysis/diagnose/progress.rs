@@ -7,10 +7,15 @@ use crate::physics::effects::EffectKind;
 use std::sync::Mutex;
 
 /// Where each stage ends on the bar: the baseline's multiple-shooting fit, its whole-run path,
-/// the candidates (with the departure beside them); then the pairs and the words.
-const FIT_END: f64 = 0.12;
-const BASELINE_END: f64 = 0.25;
-const CANDIDATES_END: f64 = 0.95;
+/// the candidates (with the departure beside them), their second passes, the pairs; then the
+/// words. Where the pairs are needed they take as long as everything before them.
+const FIT_END: f64 = 0.08;
+const BASELINE_END: f64 = 0.15;
+const CANDIDATES_END: f64 = 0.50;
+const AGAIN_END: f64 = 0.55;
+/// Where the pairs' first and second rounds end, and where the best pair's passes again start.
+const ROUND_END: [f64; 2] = [0.75, 0.85];
+const PAIR_AGAIN: [f64; 2] = [0.87, 0.92];
 const EXPLAIN_AT: f64 = 0.97;
 
 /// Reports the diagnosis's progress to its caller; shared by the worker threads.
@@ -20,6 +25,8 @@ pub(super) struct Reporter<'a> {
     baseline: Mutex<f64>,
     /// Each candidate's share done (by `EffectKind::ALL` index), and how many are finished.
     candidates: Mutex<(Vec<f64>, usize)>,
+    /// The pairs' round, fitted and planned.
+    pairs: Mutex<PairRound>,
 }
 
 impl<'a> Reporter<'a> {
@@ -28,6 +35,7 @@ impl<'a> Reporter<'a> {
             report,
             baseline: Mutex::new(0.0),
             candidates: Mutex::new((vec![0.0; EffectKind::ALL.len()], 0)),
+            pairs: Mutex::new(PairRound { round: 0, done: 0, count: 0 }),
         }
     }
 
@@ -102,14 +110,59 @@ impl<'a> Reporter<'a> {
         }
     }
 
-    /// Stage 5: pairs of effects.
-    pub(super) fn pairs(&self) {
-        self.send(DiagnoseStage::Candidates, CANDIDATES_END, "pairs of effects".into());
+    /// Stage 3, after every candidate: `what` is fitted again (a camera candidate through the
+    /// camera it found, the best candidates' paths walked again).
+    pub(super) fn fitting_again(&self, what: &str) {
+        self.send(DiagnoseStage::Candidates, CANDIDATES_END, format!("fitting again: {what}"));
+    }
+
+    /// Stage 5: the pairs of round `round` (0: the first, 1: the second) are planned, `count`.
+    pub(super) fn pairs_planned(&self, round: usize, count: usize) {
+        if let Ok(mut st) = self.pairs.lock() {
+            *st = PairRound { round: round.min(1), done: 0, count };
+            self.send(DiagnoseStage::Candidates, st.fraction(), st.message());
+        }
+    }
+
+    /// Stage 5: the pair `a + b` is fitted over the whole run, to `rms_px`.
+    pub(super) fn pair_fitted(&self, a: EffectKind, b: EffectKind, rms_px: f64) {
+        if let Ok(mut st) = self.pairs.lock() {
+            st.done += 1;
+            let message = format!("{} ({a} + {b}: {rms_px:.2} px)", st.message());
+            self.send(DiagnoseStage::Candidates, st.fraction(), message);
+        }
+    }
+
+    /// Stage 5, after the pairs: `what` is fitted again (the best pair; `late`: its last pass).
+    pub(super) fn pair_again(&self, what: &str, late: bool) {
+        let fraction = if late { PAIR_AGAIN[1] } else { PAIR_AGAIN[0] };
+        self.send(DiagnoseStage::Candidates, fraction, format!("pairs of effects: {what}"));
     }
 
     /// Stage 6: the residuals, the signature, the words.
     pub(super) fn explaining(&self) {
         self.send(DiagnoseStage::Explain, EXPLAIN_AT, "explaining".into());
+    }
+}
+
+/// A round of pairs: which, how many of its pairs are fitted, and how many it has.
+#[derive(Clone, Copy)]
+struct PairRound {
+    round: usize,
+    done: usize,
+    count: usize,
+}
+
+impl PairRound {
+    fn fraction(&self) -> f64 {
+        let start = if self.round == 0 { AGAIN_END } else { ROUND_END[0] };
+        let share = (self.done as f64 / self.count.max(1) as f64).min(1.0);
+        start + (ROUND_END[self.round] - start) * share
+    }
+
+    fn message(&self) -> String {
+        let which = if self.round == 0 { "" } else { ", second round" };
+        format!("pairs of effects{which}: {} of {} fitted", self.done, self.count)
     }
 }
 

@@ -70,7 +70,6 @@ pub fn diagnose(
         rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel,
     )?;
     laps.lap("candidates and departure");
-    progress.explaining();
     let mut ranked = rank(&baseline, &fits);
     let (finding, chosen, pairs) = forward_selection(
         &Again { rec, fit_opts: &fit_opts },
@@ -84,6 +83,7 @@ pub fn diagnose(
         cancel,
     )?;
     laps.lap("pairs and the decision");
+    progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
     let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
     let mut d = describe(
@@ -251,6 +251,7 @@ fn candidates_and_departure(
     );
     let departure = departure.map_err(lm_error)?;
     let (baseline, mut fits) = candidates?;
+    progress.fitting_again("the best candidates");
     camera_second_pass(rec, fit_opts, &baseline, &mut fits, noise_px, cancel)?;
     let again = Again { rec, fit_opts };
     walk_best_singles_again(&again, ms, levels, &baseline, &mut fits, noise_px, cancel)?;

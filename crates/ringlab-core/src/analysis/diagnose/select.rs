@@ -36,20 +36,33 @@ pub(super) fn forward_selection(
     // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
     // noise, pairs of the candidates that improved on the baseline.
     let pair_fits = if chosen.rms_px() > CONSISTENT_RATIO * noise_px {
-        progress.pairs();
-        pairs_stage(ms, levels, ranked, noise_px, cancel)?
+        pairs_stage(ms, levels, ranked, noise_px, progress, cancel)?
     } else {
         Vec::new()
     };
     let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let mut pair_fits = pair_fits;
     if let Some(lead) = camera_lead_without_slip(ranked, &pair_fits)
-        && let Some(p) = slip_through_camera(again, ms, lead, cancel)?
+        && let Some(p) = {
+            progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
+            slip_through_camera(again, ms, lead, cancel)?
+        }
     {
         pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
     }
+    if !pair_fits.is_empty() {
+        progress.pair_again("the best pair fitted again", false);
+    }
     walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, cancel)?;
-    slip_pair_through_its_camera(again, ms, &mut pair_fits, &pair_score, noise_px, cancel)?;
+    slip_pair_through_its_camera(
+        again,
+        ms,
+        &mut pair_fits,
+        &pair_score,
+        noise_px,
+        progress,
+        cancel,
+    )?;
     let best_pair = pair_fits
         .iter()
         .filter_map(|(_, _, r)| r.as_ref().ok())
@@ -141,6 +154,7 @@ fn slip_pair_through_its_camera(
     pairs: &mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
     score: &dyn Fn(&WholeFit) -> f64,
     noise_px: f64,
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let Some(p) = best_pair(pairs, score) else { return Ok(()) };
@@ -149,6 +163,7 @@ fn slip_pair_through_its_camera(
     if !slip_with_camera || p.rms_px() <= CONSISTENT_RATIO * noise_px {
         return Ok(());
     }
+    progress.pair_again("slip fitted again through the best pair's camera", true);
     if let Some(again) = slip_through_camera(again, ms, p, cancel)?
         && again.cost < p.cost
     {
@@ -262,6 +277,7 @@ fn pairs_stage(
     levels: &[Level],
     ranked: &[(Candidate, Option<&WholeFit>)],
     noise_px: f64,
+    progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
     let fitted: Vec<(&Candidate, &WholeFit)> = ranked
@@ -298,17 +314,20 @@ fn pairs_stage(
         }
     }
     let mut out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> = Vec::new();
-    for round in &rounds {
+    for (n, round) in rounds.iter().enumerate() {
         let reached = out
             .iter()
             .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px));
-        if reached {
+        if reached || round.is_empty() {
             break;
         }
+        progress.pairs_planned(n, round.len());
         use rayon::prelude::*;
         out.par_extend(round.par_iter().map(|&(i, j)| {
             let (a, b) = (fitted[i].1, fitted[j].1);
-            (a.kind, b.kind, fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel))
+            let fit = fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel);
+            progress.pair_fitted(a.kind, b.kind, fit.as_ref().map_or(f64::NAN, |w| w.rms_px()));
+            (a.kind, b.kind, fit)
         }));
         if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
             return Err(DiagnoseError::Cancelled);
