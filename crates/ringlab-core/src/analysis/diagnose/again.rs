@@ -162,33 +162,46 @@ pub(super) fn walk_again(
 /// sliding ring filmed from 500 mm: slip alone 15.7 px against the baseline's 12.7), so the
 /// forward selection, which pairs slip only where it improved alone, never tries it; and a
 /// pair of slip with the pinhole walked from the baseline's path can end at four times the
-/// noise. Here the multiple-shooting fit and the baseline's path are made again through the
-/// camera found (even a camera confused by the slides, 311 mm for 500, lets slip reach
-/// 1.8 px), slip is fitted on that path as a candidate is (both starts, the blind start), and
-/// then the camera is set free beside it for the last stage.
+/// noise. Even a camera confused by the slides, 311 mm for 500, lets slip reach 1.8 px
+/// ([`effects_through_camera`]).
 pub(super) fn slip_through_camera(
     again: &Again,
     ms: &Shooting,
     camera_fit: &WholeFit,
     cancel: &AtomicBool,
 ) -> Result<Option<WholeFit>, DiagnoseError> {
+    let fits = effects_through_camera(again, ms, camera_fit, &[EffectKind::Slip], cancel)?;
+    Ok(fits.into_iter().next())
+}
+
+/// Each physical effect of `kinds` beside the camera effects of `camera_fit`, found through
+/// that camera: the multiple-shooting fit and the baseline's path are made again through the
+/// camera found, each effect is fitted on that path as a candidate is, and then the camera is
+/// set free beside it for the last stage. A pair walked from the baseline's path starts from
+/// segments fitted through the wrong camera and can stay in the camera's valley with the
+/// physical effect at zero (a pinhole 640 mm away beside translational drag: the pinhole alone
+/// fits as 805 mm and 1.71 px, the pair with the drag stays there; through the 805 mm camera
+/// the drag alone reaches 0.70 px).
+pub(super) fn effects_through_camera(
+    again: &Again,
+    ms: &Shooting,
+    camera_fit: &WholeFit,
+    kinds: &[EffectKind],
+    cancel: &AtomicBool,
+) -> Result<Vec<WholeFit>, DiagnoseError> {
     let clock = Instant::now();
     let cameras = camera_numbers(camera_fit);
-    if cameras.is_empty() {
-        return Ok(None);
+    let kinds: Vec<EffectKind> = kinds.iter().copied().filter(|k| k.is_physical()).collect();
+    if cameras.is_empty() || kinds.is_empty() {
+        return Ok(Vec::new());
     }
     let base = match fit(again.rec, &through_camera_of(camera_fit, again.fit_opts), &|_| {}, cancel)
     {
         Ok(b) => b,
         Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
-        Err(_) => return Ok(None),
+        Err(_) => return Ok(Vec::new()),
     };
     let through = base.shooting(&again.rec.frames);
-    let lm = |r: Result<WholeFit, LmError>| match r {
-        Ok(w) => Ok(Some(w)),
-        Err(LmError::Cancelled) => Err(DiagnoseError::Cancelled),
-        Err(_) => Ok(None),
-    };
     let Some((baseline, levels)) =
         (match fit_baseline(&through, &base.segment_states, &mut |_, _| {}, cancel) {
             Ok(b) => Some(b),
@@ -196,31 +209,39 @@ pub(super) fn slip_through_camera(
             Err(_) => None,
         })
     else {
-        return Ok(None);
+        return Ok(Vec::new());
     };
-    let Some(slip) =
-        lm(fit_candidate(&through, &levels, &baseline, EffectKind::Slip, &mut |_, _| {}, cancel))?
-    else {
-        return Ok(None);
+    let one = |kind: EffectKind| -> Result<Option<WholeFit>, LmError> {
+        let alone = fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {}, cancel)?;
+        // The pair's numbers: the drag and body of the effect's fit, the camera's, the effect's.
+        let shared = alone.internal.len() - kind.free_count();
+        let mut global = alone.internal[..shared].to_vec();
+        let mut order = Vec::new();
+        for (camera, numbers) in &cameras {
+            order.push(*camera);
+            global.extend(numbers);
+        }
+        global.extend_from_slice(&alone.internal[shared..]);
+        order.push(kind);
+        let start = alone.model.effects.slip_start;
+        let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &order));
+        sh.segments = vec![alone.span.clone()];
+        fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, cancel).map(Some)
     };
-    // The pair's numbers: the drag and body of the slip fit, the camera's, slip's mu.
-    let shared = slip.internal.len() - EffectKind::Slip.free_count();
-    let mut global = slip.internal[..shared].to_vec();
-    let mut kinds = Vec::new();
-    for (kind, numbers) in cameras {
-        kinds.push(kind);
-        global.extend(numbers);
+    use rayon::prelude::*;
+    let fits: Vec<Result<Option<WholeFit>, LmError>> = kinds.par_iter().map(|&k| one(k)).collect();
+    let mut out = Vec::new();
+    for f in fits {
+        match f {
+            Ok(Some(mut p)) => {
+                p.seconds = clock.elapsed().as_secs_f64();
+                out.push(p);
+            }
+            Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
+            _ => {}
+        }
     }
-    global.extend_from_slice(&slip.internal[shared..]);
-    kinds.push(EffectKind::Slip);
-    let mut sh =
-        with_budget(with_effects(&with_slip_start(ms, slip.model.effects.slip_start), &kinds));
-    sh.segments = vec![slip.span.clone()];
-    let pair = lm(fit_whole(&sh, global, &[slip.start], &mut |_, _| {}, cancel))?;
-    Ok(pair.map(|mut p| {
-        p.seconds = clock.elapsed().as_secs_f64();
-        p
-    }))
+    Ok(out)
 }
 
 /// The camera effects of fit `w` with their internal numbers, in `w`'s order (its numbers are

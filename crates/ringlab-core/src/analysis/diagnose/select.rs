@@ -1,6 +1,8 @@
 //! The decision and the forward selection: which single effect, or pair, is named.
 
-use super::again::{Again, best_pair, slip_through_camera, walk_best_pair_again};
+use super::again::{
+    Again, best_pair, effects_through_camera, slip_through_camera, walk_best_pair_again,
+};
 use super::candidates::{fit_pair, refit_from};
 use super::options::DiagnoseError;
 use super::progress::Reporter;
@@ -49,6 +51,19 @@ pub(super) fn forward_selection(
         }
     {
         pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
+    }
+    if let Some(lead) = camera_lead_still_missing(ranked, &pair_fits, noise_px) {
+        progress
+            .pair_again(&format!("physical effects through the camera {} found", lead.kind), false);
+        let kinds: Vec<EffectKind> = ranked
+            .iter()
+            .map(|(c, _)| c.effect)
+            .filter(|&k| k.is_physical() && k != EffectKind::Slip)
+            .collect();
+        for p in effects_through_camera(again, ms, lead, &kinds, cancel)? {
+            let first = p.also.first().map_or(lead.kind, |x| x.0);
+            pair_fits.push((first, p.kind, Ok(p)));
+        }
     }
     if !pair_fits.is_empty() {
         progress.pair_again("the best pair fitted again", false);
@@ -185,6 +200,24 @@ fn camera_lead_without_slip<'a>(
     }
     let slip = ranked.iter().find(|(c, _)| c.effect == EffectKind::Slip)?;
     if slip.0.delta_score < 0.0 {
+        return None;
+    }
+    let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
+    (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
+}
+
+/// The best single candidate where it is a camera effect that improved on the baseline and
+/// no pair reaches the noise: then the physical candidates (slip has its own step) are fitted
+/// through that camera ([`effects_through_camera`]). Only where the pairs were fitted at all.
+fn camera_lead_still_missing<'a>(
+    ranked: &[(Candidate, Option<&'a WholeFit>)],
+    pair_fits: &[(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    noise_px: f64,
+) -> Option<&'a WholeFit> {
+    let reached = pair_fits
+        .iter()
+        .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px));
+    if pair_fits.is_empty() || reached {
         return None;
     }
     let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
