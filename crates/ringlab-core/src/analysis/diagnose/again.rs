@@ -211,7 +211,10 @@ pub(super) fn effects_through_camera(
     else {
         return Ok(Vec::new());
     };
-    let one = |kind: EffectKind| -> Result<Option<WholeFit>, LmError> {
+    // Each pair's time: the fits through the camera that all share, and its own.
+    let shared_seconds = clock.elapsed().as_secs_f64();
+    let one = |kind: EffectKind| -> Result<WholeFit, LmError> {
+        let own = Instant::now();
         let alone = fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {}, cancel)?;
         // The pair's numbers: the drag and body of the effect's fit, the camera's, the effect's.
         let shared = alone.internal.len() - kind.free_count();
@@ -226,17 +229,16 @@ pub(super) fn effects_through_camera(
         let start = alone.model.effects.slip_start;
         let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &order));
         sh.segments = vec![alone.span.clone()];
-        fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, cancel).map(Some)
+        let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, cancel)?;
+        pair.seconds = shared_seconds + own.elapsed().as_secs_f64();
+        Ok(pair)
     };
     use rayon::prelude::*;
-    let fits: Vec<Result<Option<WholeFit>, LmError>> = kinds.par_iter().map(|&k| one(k)).collect();
+    let fits: Vec<Result<WholeFit, LmError>> = kinds.par_iter().map(|&k| one(k)).collect();
     let mut out = Vec::new();
     for f in fits {
         match f {
-            Ok(Some(mut p)) => {
-                p.seconds = clock.elapsed().as_secs_f64();
-                out.push(p);
-            }
+            Ok(p) => out.push(p),
             Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
             _ => {}
         }

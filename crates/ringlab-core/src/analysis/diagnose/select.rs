@@ -166,7 +166,7 @@ pub(super) fn forward_selection(
 fn slip_pair_through_its_camera(
     again: &Again,
     ms: &Shooting,
-    pairs: &mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    pairs: &mut [PairFit],
     score: &dyn Fn(&WholeFit) -> f64,
     noise_px: f64,
     progress: &Reporter,
@@ -193,7 +193,7 @@ fn slip_pair_through_its_camera(
 /// ([`slip_through_camera`]). Only where the pairs were fitted at all.
 fn camera_lead_without_slip<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
-    pair_fits: &[(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    pair_fits: &[PairFit],
 ) -> Option<&'a WholeFit> {
     if pair_fits.is_empty() {
         return None;
@@ -202,8 +202,7 @@ fn camera_lead_without_slip<'a>(
     if slip.0.delta_score < 0.0 {
         return None;
     }
-    let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
-    (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
+    camera_lead(ranked)
 }
 
 /// The best single candidate where it is a camera effect that improved on the baseline and
@@ -211,17 +210,30 @@ fn camera_lead_without_slip<'a>(
 /// through that camera ([`effects_through_camera`]). Only where the pairs were fitted at all.
 fn camera_lead_still_missing<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
-    pair_fits: &[(EffectKind, EffectKind, Result<WholeFit, LmError>)],
+    pair_fits: &[PairFit],
     noise_px: f64,
 ) -> Option<&'a WholeFit> {
-    let reached = pair_fits
-        .iter()
-        .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px));
-    if pair_fits.is_empty() || reached {
+    if pair_fits.is_empty() || reaches_noise(pair_fits, noise_px) {
         return None;
     }
+    camera_lead(ranked)
+}
+
+/// The best single candidate's fit where it is a camera effect that improved on the baseline.
+fn camera_lead<'a>(ranked: &[(Candidate, Option<&'a WholeFit>)]) -> Option<&'a WholeFit> {
     let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
     (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
+}
+
+/// A pair of the forward selection: its two effects and its fit.
+type PairFit = (EffectKind, EffectKind, Result<WholeFit, LmError>);
+
+/// Whether a pair fitted reaches [`CONSISTENT_RATIO`] times the noise (then no other pair is
+/// needed to explain what is left).
+fn reaches_noise(pair_fits: &[PairFit], noise_px: f64) -> bool {
+    pair_fits
+        .iter()
+        .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px))
 }
 
 /// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
@@ -312,7 +324,7 @@ fn pairs_stage(
     noise_px: f64,
     progress: &Reporter,
     cancel: &AtomicBool,
-) -> Result<Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)>, DiagnoseError> {
+) -> Result<Vec<PairFit>, DiagnoseError> {
     let fitted: Vec<(&Candidate, &WholeFit)> = ranked
         .iter()
         .filter(|(c, _)| c.effect != EffectKind::None)
@@ -346,12 +358,9 @@ fn pairs_stage(
             add(n.min(1), i, j);
         }
     }
-    let mut out: Vec<(EffectKind, EffectKind, Result<WholeFit, LmError>)> = Vec::new();
+    let mut out: Vec<PairFit> = Vec::new();
     for (n, round) in rounds.iter().enumerate() {
-        let reached = out
-            .iter()
-            .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px));
-        if reached || round.is_empty() {
+        if reaches_noise(&out, noise_px) || round.is_empty() {
             break;
         }
         progress.pairs_planned(n, round.len());
