@@ -40,9 +40,12 @@ pub struct DiagnoseBenchArgs {
     /// Keep the recordings the diagnosis got wrong in this folder
     #[arg(long, value_name = "DIR")]
     pub keep_wrong: Option<PathBuf>,
+    /// Keep every recording, right or wrong, in this folder (to rerun or profile one)
+    #[arg(long, value_name = "DIR")]
+    pub keep: Option<PathBuf>,
     /// Diagnose nothing: make the table from the rows of these CSV files (written by --out by
     /// earlier runs), comma-separated
-    #[arg(long, value_name = "FILE.csv,..", value_delimiter = ',', conflicts_with_all = ["out", "keep_wrong"])]
+    #[arg(long, value_name = "FILE.csv,..", value_delimiter = ',', conflicts_with_all = ["out", "keep_wrong", "keep"])]
     pub from_csv: Vec<PathBuf>,
 }
 
@@ -330,7 +333,7 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
         }
         None => None,
     };
-    if let Some(d) = &args.keep_wrong {
+    for d in [&args.keep_wrong, &args.keep].into_iter().flatten() {
         std::fs::create_dir_all(d).with_context(|| format!("creating {}", d.display()))?;
     }
     let cancel = AtomicBool::new(false);
@@ -391,8 +394,10 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
                 )?;
                 f.flush()?;
             }
-            if !row.right()
-                && let Some(dir) = &args.keep_wrong
+            // A wrong one is kept in --keep-wrong, else in --keep; a right one only in --keep.
+            let keep_in =
+                if row.right() { None } else { args.keep_wrong.as_ref() }.or(args.keep.as_ref());
+            if let Some(dir) = keep_in
             {
                 let p = dir.join(format!(
                     "{}-seed{}.csv",

@@ -148,19 +148,25 @@ impl SlidingModel {
         let [sx, sy] = self.s_ref;
         let c = v_s[0] * sx + v_s[1] * sy;
         let d = -v_s[0] * sy + v_s[1] * sx;
-        let along = c.abs() + eps * (-c.hypot(d) / eps).exp();
-        let n = along.hypot(d);
+        // Plain square roots, not `hypot`: these speeds are far from overflow, and `hypot`
+        // cost as much as the rest of the sliding right-hand side's arithmetic.
+        let along = c.abs() + eps * (-(c * c + d * d).sqrt() / eps).exp();
+        let n = (along * along + d * d).sqrt();
         let (p, q) = (along / n, d / n);
         [p * sx - q * sy, p * sy + q * sx]
     }
 
     /// Everything the sliding equations give at `y` (see the module doc).
     pub fn dynamics(&self, y: &SlideVec) -> SlideDynamics {
+        self.dynamics_sc(y, y[ix::THETA].sin_cos(), y[ix::PHI].sin_cos())
+    }
+
+    /// [`SlidingModel::dynamics`] with the sines and cosines of theta and phi given (the
+    /// right-hand side needs them too: they are a third of its cost).
+    fn dynamics_sc(&self, y: &SlideVec, (st, ct): (f64, f64), (sp, cp): (f64, f64)) -> SlideDynamics {
         let m = &self.model;
         let b = &m.body;
         let (a, r) = (0.5 * b.h, b.r);
-        let (st, ct) = y[ix::THETA].sin_cos();
-        let (sp, cp) = y[ix::PHI].sin_cos();
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let kappa = a * ct - r * st;
         let z_c = a * st + r * ct;
@@ -210,8 +216,8 @@ impl SlidingModel {
 
 impl System<SLIDE_LEN> for SlidingModel {
     fn rhs(&self, _t: f64, y: &SlideVec, dy: &mut SlideVec) {
-        let d = self.dynamics(y);
         let (st, ct) = y[ix::THETA].sin_cos();
+        let d = self.dynamics_sc(y, (st, ct), y[ix::PHI].sin_cos());
         dy[ix::PHI] = y[ix::W3] / ct;
         dy[ix::THETA] = y[ix::W1];
         dy[ix::PSI] = y[ix::W2] - y[ix::W3] * st / ct;
