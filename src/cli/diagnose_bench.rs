@@ -397,8 +397,7 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
             // A wrong one is kept in --keep-wrong, else in --keep; a right one only in --keep.
             let keep_in =
                 if row.right() { None } else { args.keep_wrong.as_ref() }.or(args.keep.as_ref());
-            if let Some(dir) = keep_in
-            {
+            if let Some(dir) = keep_in {
                 let p = dir.join(format!(
                     "{}-seed{}.csv",
                     family.name().replace([':', '+'], "-"),

@@ -163,7 +163,12 @@ impl SlidingModel {
 
     /// [`SlidingModel::dynamics`] with the sines and cosines of theta and phi given (the
     /// right-hand side needs them too: they are a third of its cost).
-    fn dynamics_sc(&self, y: &SlideVec, (st, ct): (f64, f64), (sp, cp): (f64, f64)) -> SlideDynamics {
+    fn dynamics_sc(
+        &self,
+        y: &SlideVec,
+        (st, ct): (f64, f64),
+        (sp, cp): (f64, f64),
+    ) -> SlideDynamics {
         let m = &self.model;
         let b = &m.body;
         let (a, r) = (0.5 * b.h, b.r);
