@@ -268,6 +268,34 @@ fn a_physical_effect_hidden_behind_a_pinhole_is_found_through_its_camera() {
     assert!(d.after.rms_px < 1.1 * NOISE_PX, "left {} px", d.after.rms_px);
 }
 
+/// A pinhole with a lens (the bench's `pair:camera_distortion+camera_perspective`, seed 4,
+/// chosen because it shows this): the pinhole alone, fitted through a lens it does not know,
+/// leaves several noise levels, and the pair walked from the baseline's path ends worse still.
+/// Fitted through the camera the pinhole found, the lens shows, and both are named at the noise.
+#[test]
+fn a_lens_beside_a_pinhole_is_found_through_the_pinhole() {
+    let family = Family::Pair(EffectKind::CameraDistortion, EffectKind::CameraPerspective);
+    let rec = family_recording(family, 4).expect("a concealed pair");
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .expect("a diagnosis");
+    let pinhole =
+        d.candidates.iter().find(|c| c.effect == EffectKind::CameraPerspective).expect("ranked");
+    assert!(
+        pinhole.rms_px > 3.0 * NOISE_PX,
+        "the pinhole alone must leave several noise levels, else this test shows nothing: {} px",
+        pinhole.rms_px
+    );
+    let mut named = d.finding.named().to_vec();
+    named.sort_by_key(|k| k.name());
+    assert_eq!(
+        named,
+        [EffectKind::CameraDistortion, EffectKind::CameraPerspective],
+        "{}",
+        d.explanation
+    );
+    assert!(d.after.rms_px < 1.1 * NOISE_PX, "left {} px", d.after.rms_px);
+}
+
 /// Rolling friction withheld from the candidates (the bench's `withheld:rolling_friction`,
 /// seed 1, chosen because it shows this): pivot friction imitates it in part, removing most of
 /// the squared excess but leaving several noise levels. Naming it would name an effect that is

@@ -174,14 +174,16 @@ pub(super) fn slip_through_camera(
     Ok(fits.into_iter().next())
 }
 
-/// Each physical effect of `kinds` beside the camera effects of `camera_fit`, found through
+/// Each effect of `kinds` beside the camera effects of `camera_fit`, found through
 /// that camera: the multiple-shooting fit and the baseline's path are made again through the
 /// camera found, each effect is fitted on that path as a candidate is, and then the camera is
 /// set free beside it for the last stage. A pair walked from the baseline's path starts from
 /// segments fitted through the wrong camera and can stay in the camera's valley with the
 /// physical effect at zero (a pinhole 640 mm away beside translational drag: the pinhole alone
 /// fits as 805 mm and 1.71 px, the pair with the drag stays there; through the 805 mm camera
-/// the drag alone reaches 0.70 px).
+/// the drag alone reaches 0.70 px). The other camera effect too: a pinhole 346 mm away found
+/// through a lens it does not know leaves 1.77 px, and the pair walked from the baseline's path
+/// 5.4 px.
 pub(super) fn effects_through_camera(
     again: &Again,
     ms: &Shooting,
@@ -191,7 +193,13 @@ pub(super) fn effects_through_camera(
 ) -> Result<Vec<WholeFit>, DiagnoseError> {
     let clock = Instant::now();
     let cameras = camera_numbers(camera_fit);
-    let kinds: Vec<EffectKind> = kinds.iter().copied().filter(|k| k.is_physical()).collect();
+    // Every effect asked for that the camera fit does not already hold (the other camera
+    // effect too: a real camera is a pinhole with a lens).
+    let kinds: Vec<EffectKind> = kinds
+        .iter()
+        .copied()
+        .filter(|k| *k != EffectKind::None && !cameras.iter().any(|(c, _)| c == k))
+        .collect();
     if cameras.is_empty() || kinds.is_empty() {
         return Ok(Vec::new());
     }

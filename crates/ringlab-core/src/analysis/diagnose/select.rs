@@ -53,12 +53,14 @@ pub(super) fn forward_selection(
         pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
     }
     if let Some(lead) = camera_lead_still_missing(ranked, &pair_fits, noise_px) {
-        progress
-            .pair_again(&format!("physical effects through the camera {} found", lead.kind), false);
+        progress.pair_again(
+            &format!("the other effects through the camera {} found", lead.kind),
+            false,
+        );
         let kinds: Vec<EffectKind> = ranked
             .iter()
             .map(|(c, _)| c.effect)
-            .filter(|&k| k.is_physical() && k != EffectKind::Slip)
+            .filter(|&k| k != EffectKind::None && k != EffectKind::Slip && k != lead.kind)
             .collect();
         for p in effects_through_camera(again, ms, lead, &kinds, cancel)? {
             let first = p.also.first().map_or(lead.kind, |x| x.0);
@@ -206,8 +208,8 @@ fn camera_lead_without_slip<'a>(
 }
 
 /// The best single candidate where it is a camera effect that improved on the baseline and
-/// no pair reaches the noise: then the physical candidates (slip has its own step) are fitted
-/// through that camera ([`effects_through_camera`]). Only where the pairs were fitted at all.
+/// no pair reaches the noise: then the other candidates (slip has its own step), the other
+/// camera effect among them, are fitted through that camera ([`effects_through_camera`]). Only where the pairs were fitted at all.
 fn camera_lead_still_missing<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
     pair_fits: &[PairFit],
