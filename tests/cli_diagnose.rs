@@ -120,7 +120,7 @@ fn the_bench_table_is_made_from_saved_rows() {
     let none = dir.join("none.csv");
     std::fs::write(
         &none,
-        format!("{header}camera-known:tilted,1,none,none,0.5,0.5,0.5,0,10,1400\nwithheld:slip,1,unexplained,none,1.2,1.2,0.5,0,9,1400\npair:reynolds_drag+pivot_friction,1,reynolds_drag+pivot_friction,pivot_friction+reynolds_drag,15,0.5,0.5,3,14,1000\n"),
+        format!("{header}camera-known:tilted,1,none,none,0.5,0.5,0.5,0,10,1400\nwithheld:slip,1,unexplained,none,1.2,1.2,0.5,0,9,1400\npair:reynolds_drag+pivot_friction,1,reynolds_drag+pivot_friction,pivot_friction+reynolds_drag,15,0.5,0.5,3,14,1000\nglitches:none,1,none,failed,0,0,0,0,3,1400\nglitches:none,2,none,none,0.5,0.5,0.5,4,8,1400\n"),
     )
     .unwrap();
     let readme = dir.join("diagnosis.md");
@@ -163,6 +163,11 @@ fn the_bench_table_is_made_from_saved_rows() {
         "{text}"
     );
     assert!(text.contains("twice the noise or more: 1."), "{text}");
+    // A diagnosis that failed is a wrong answer in its family, not a false alarm.
+    assert!(
+        text.contains("| glitches:none | none | 2 | 1/2 (false alarms 0%) | failed |"),
+        "{text}"
+    );
 
     // The same recording twice, a row that is not one, a file that is not a table.
     let s = slip.to_str().unwrap();
