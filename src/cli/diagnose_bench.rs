@@ -209,7 +209,8 @@ fn read_rows(path: &std::path::Path) -> Result<Vec<Row>> {
             bail!("{at}: '{}' is not a family", f[0]);
         }
         for (k, what) in [(2, "expected"), (3, "said")] {
-            if !finding_field(f[k]) && !(k == 3 && f[k] == FAILED) {
+            let failed = k == 3 && f[k] == FAILED;
+            if !failed && !finding_field(f[k]) {
                 bail!("{at}: {what} '{}' is not an effect, none or unexplained", f[k]);
             }
         }
