@@ -428,7 +428,8 @@ pub fn run(args: &DiagnoseBenchArgs) -> Result<()> {
                 ));
                 let mut f = std::fs::File::create(&p)
                     .with_context(|| format!("creating {}", p.display()))?;
-                ringlab::recording::write_recording(&mut f, &rec)?;
+                // Exactly as diagnosed, so that diagnosing the file gives this row again.
+                ringlab::recording::write_recording_exact(&mut f, &rec)?;
             }
             rows.push(row);
         }

@@ -5,7 +5,7 @@ mod common;
 
 use ringlab_core::physics::Shape;
 use ringlab_core::recording::{
-    Camera, ReadErrorKind, parse_recording, read_recording, write_recording,
+    Camera, ReadErrorKind, parse_recording, read_recording, write_recording, write_recording_exact,
 };
 use std::path::Path;
 
@@ -298,4 +298,33 @@ fn camera_keys_are_read_checked_and_written() {
         .replace("# image_height_px = 1024\n", "# image_height_px = 1024\n# camera_tilt_deg = 3\n");
     let rec = parse_recording(tilt_only.as_bytes(), Path::new("t.csv")).unwrap();
     assert_eq!((rec.header.camera_distance_mm, rec.header.camera_tilt_deg), (None, Some(3.0)));
+}
+
+#[test]
+fn an_exact_write_reads_back_every_bit_and_the_plain_one_rounds() {
+    let mut rec = parse_recording(head(40).as_bytes(), Path::new("t.csv")).expect("reads");
+    // Coordinates with more digits than any decimal rounding keeps, and one mark missing.
+    for (i, marks) in rec.frames.iter_mut().enumerate() {
+        for m in marks.iter_mut().flatten() {
+            m[0] += (i as f64 + 1.0) / 3.0 * 1e-3;
+            m[1] -= std::f64::consts::PI * 1e-7;
+        }
+    }
+    rec.frames[3][2] = None;
+    let mut exact = Vec::new();
+    write_recording_exact(&mut exact, &rec).unwrap();
+    let back = parse_recording(exact.as_slice(), Path::new("exact.csv")).expect("reads back");
+    assert_eq!(back.header, rec.header);
+    assert_eq!(back.frames, rec.frames, "an exact write must read back bit for bit");
+    let mut plain = Vec::new();
+    write_recording(&mut plain, &rec).unwrap();
+    let rounded = parse_recording(plain.as_slice(), Path::new("plain.csv")).expect("reads back");
+    assert_ne!(rounded.frames, rec.frames, "the plain write rounds to a hundredth of a pixel");
+    assert_eq!(rounded.frames[3][2], None);
+    let off = rounded.frames.iter().zip(&rec.frames).flat_map(|(a, b)| a.iter().zip(b));
+    for (a, b) in off {
+        if let (Some(a), Some(b)) = (a, b) {
+            assert!((a[0] - b[0]).abs() <= 0.005 + 1e-9 && (a[1] - b[1]).abs() <= 0.005 + 1e-9);
+        }
+    }
 }

@@ -34,7 +34,7 @@ pub mod write;
 pub use camera::Camera;
 pub use read::{ReadError, ReadErrorKind, parse_recording, read_recording};
 pub use recover::{RecoveredMotion, recover};
-pub use write::write_recording;
+pub use write::{write_recording, write_recording_exact};
 
 use crate::physics::{Body, ParamError, Shape};
 

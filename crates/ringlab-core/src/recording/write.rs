@@ -7,8 +7,21 @@ use std::io::{self, Write};
 /// Decimals written for pixel coordinates (a hundredth of a pixel, as in the sample).
 pub const PIXEL_DECIMALS: usize = 2;
 
-/// Writes a recording; header numbers are written so that they read back exactly.
+/// Writes a recording; header numbers are written so that they read back exactly, pixel
+/// coordinates to [`PIXEL_DECIMALS`].
 pub fn write_recording(out: &mut impl Write, rec: &Recording) -> io::Result<()> {
+    write_with(out, rec, Some(PIXEL_DECIMALS))
+}
+
+/// Writes a recording whose pixel coordinates too read back exactly (the shortest decimals that
+/// do). A kept recording must give the answer it gave in memory: a diagnosis can end in another
+/// valley of its least squares after rounding to a hundredth of a pixel, far below the noise.
+pub fn write_recording_exact(out: &mut impl Write, rec: &Recording) -> io::Result<()> {
+    write_with(out, rec, None)
+}
+
+/// `decimals`: the pixel coordinates' decimals; `None`, as many as read back exactly.
+fn write_with(out: &mut impl Write, rec: &Recording, decimals: Option<usize>) -> io::Result<()> {
     let h = &rec.header;
     writeln!(out, "{MAGIC}")?;
     writeln!(out, "# fps = {:?}", h.fps)?;
@@ -39,7 +52,10 @@ pub fn write_recording(out: &mut impl Write, rec: &Recording) -> io::Result<()> 
         write!(out, "{}", rec.frame_number(i))?;
         for m in marks {
             match m {
-                Some([x, y]) => write!(out, ",{x:.PIXEL_DECIMALS$},{y:.PIXEL_DECIMALS$}")?,
+                Some([x, y]) => match decimals {
+                    Some(d) => write!(out, ",{x:.d$},{y:.d$}")?,
+                    None => write!(out, ",{x:?},{y:?}")?,
+                },
                 None => write!(out, ",,")?,
             }
         }
