@@ -73,6 +73,7 @@ pub mod residual;
 mod result;
 mod rules;
 mod run;
+mod seen_camera;
 mod select;
 pub mod signature;
 pub mod whole;

@@ -54,6 +54,17 @@ impl<'a> Reporter<'a> {
         );
     }
 
+    /// Stage 1, after the fit: its segments refitted with the camera free
+    /// ([`super::seen_camera`]).
+    pub(super) fn seeing_camera(&self) {
+        let message = "baseline fit: the camera its segments see".to_string();
+        self.send(
+            DiagnoseStage::BaselineFit(crate::analysis::fit::FitStage::Refine),
+            FIT_END,
+            message,
+        );
+    }
+
     /// Stage 2: the baseline's path has reached `segments` of the fit's `fit_segments`
     /// (the segments halve, level by level, to one).
     pub(super) fn baseline_path(&self, fit_segments: usize, segments: usize, rms_px: f64) {

@@ -32,6 +32,12 @@ pub fn bic(cost: f64, n: usize, k: usize) -> f64 {
     n * (cost / n).max(1e-300).ln() + k as f64 * n.ln()
 }
 
+/// What one more free number costs in [`bic`] over `n` residuals: a number is worth keeping
+/// where it lowers the cost by more than this many noise variances (and the evidence asked).
+pub fn bic_per_parameter(n: usize) -> f64 {
+    (n.max(1) as f64).ln()
+}
+
 /// How many times a named model, one effect or a pair, must cut the misfit beyond the noise
 /// (against the baseline, or for a pair against the effect it adds to), unless it ends
 /// consistent with the noise. A candidate that imitates an effect it was not offered cuts the

@@ -12,6 +12,7 @@ use super::result::{
     Signature, Trace,
 };
 use super::rules::bic;
+use super::seen_camera::seen_camera;
 use super::select::forward_selection;
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
@@ -64,6 +65,9 @@ pub fn diagnose(
     laps.lap("multiple-shooting fit");
     let ms = base.shooting(&rec.frames);
     let noise = Noise::of(&base, rec);
+    progress.seeing_camera();
+    let seen = seen_camera(&base, &rec.frames, &opts.candidates, opts.evidence, cancel)?;
+    laps.lap("the camera the segments see");
     let (baseline, levels) = baseline_path(&ms, &base, progress, cancel)?;
     laps.lap("baseline over the whole run");
     let (departure, baseline, fits) = candidates_and_departure(
@@ -72,7 +76,7 @@ pub fn diagnose(
     laps.lap("candidates and departure");
     let mut ranked = rank(&baseline, &fits);
     let (finding, chosen, pairs) = forward_selection(
-        &Again { rec, fit_opts: &fit_opts },
+        &Again { rec, fit_opts: &fit_opts, seen: seen.as_ref() },
         &ms,
         &levels,
         &baseline,
@@ -253,7 +257,7 @@ fn candidates_and_departure(
     let (baseline, mut fits) = candidates?;
     progress.fitting_again("the best candidates");
     camera_second_pass(rec, fit_opts, &baseline, &mut fits, noise_px, cancel)?;
-    let again = Again { rec, fit_opts };
+    let again = Again { rec, fit_opts, seen: None };
     walk_best_singles_again(&again, ms, levels, &baseline, &mut fits, noise_px, cancel)?;
     Ok((departure, baseline, fits))
 }

@@ -8,6 +8,7 @@ use super::options::DiagnoseError;
 use super::progress::Reporter;
 use super::result::{Candidate, Finding, PairCandidate, Partial};
 use super::rules::{CONSISTENT_RATIO, MIN_EXPLAINED, bic, explained_share, explains};
+use super::seen_camera::FoundCamera;
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
@@ -44,33 +45,52 @@ pub(super) fn forward_selection(
     };
     let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
     let mut pair_fits = pair_fits;
-    if let Some(lead) = camera_lead_without_slip(ranked, &pair_fits)
+    // The steps through a camera below go on from the pairs only where they were fitted.
+    let pairs_fitted = !pair_fits.is_empty();
+    // Two camera effects the segments see: the camera alone through them is a pair (a lens
+    // beside a pinhole), tried even where one of them alone ends within the noise's margin.
+    if let Some(seen) = again.seen.filter(|s| s.numbers.len() > 1) {
+        progress.pair_again("the camera the segments see", false);
+        for p in effects_through_camera(again, ms, seen, &[EffectKind::None], cancel)? {
+            let first = p.also.first().map_or(p.kind, |x| x.0);
+            pair_fits.push((first, p.kind, Ok(p)));
+        }
+    }
+    let found = |lead: &WholeFit| again.seen.cloned().unwrap_or_else(|| FoundCamera::of(lead));
+    if pairs_fitted
+        && let Some(lead) = camera_lead_without_slip(ranked, &pair_fits, again.seen.is_some())
         && let Some(p) = {
             progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
-            slip_through_camera(again, ms, lead, cancel)?
+            slip_through_camera(again, ms, &found(lead), cancel)?
         }
     {
         pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
     }
-    if let Some(lead) = camera_lead_still_missing(ranked, &pair_fits, noise_px) {
-        progress.pair_again(
-            &format!("the other effects through the camera {} found", lead.kind),
-            false,
-        );
+    if pairs_fitted
+        && let Some(lead) =
+            camera_lead_still_missing(ranked, &pair_fits, noise_px, again.seen.is_some())
+    {
+        let camera = found(lead);
+        progress.pair_again("the other effects through the camera found", false);
+        // Slip where it did not improve alone has had its own step above; where it did, and
+        // the segments see a camera, it is one of the others.
         let kinds: Vec<EffectKind> = ranked
             .iter()
+            .filter(|(c, _)| c.effect != EffectKind::None)
+            .filter(|(c, _)| {
+                c.effect != EffectKind::Slip || (again.seen.is_some() && c.delta_score < 0.0)
+            })
             .map(|(c, _)| c.effect)
-            .filter(|&k| k != EffectKind::None && k != EffectKind::Slip && k != lead.kind)
             .collect();
-        for p in effects_through_camera(again, ms, lead, &kinds, cancel)? {
-            let first = p.also.first().map_or(lead.kind, |x| x.0);
+        for p in effects_through_camera(again, ms, &camera, &kinds, cancel)? {
+            let first = p.also.first().map_or(p.kind, |x| x.0);
             pair_fits.push((first, p.kind, Ok(p)));
         }
     }
     if !pair_fits.is_empty() {
         progress.pair_again("the best pair fitted again", false);
     }
-    walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, cancel)?;
+    walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, noise_px, cancel)?;
     slip_pair_through_its_camera(
         again,
         ms,
@@ -181,7 +201,7 @@ fn slip_pair_through_its_camera(
         return Ok(());
     }
     progress.pair_again("slip fitted again through the best pair's camera", true);
-    if let Some(again) = slip_through_camera(again, ms, p, cancel)?
+    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), cancel)?
         && again.cost < p.cost
     {
         let seconds = p.seconds + again.seconds;
@@ -196,6 +216,7 @@ fn slip_pair_through_its_camera(
 fn camera_lead_without_slip<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
     pair_fits: &[PairFit],
+    camera_seen: bool,
 ) -> Option<&'a WholeFit> {
     if pair_fits.is_empty() {
         return None;
@@ -204,7 +225,7 @@ fn camera_lead_without_slip<'a>(
     if slip.0.delta_score < 0.0 {
         return None;
     }
-    camera_lead(ranked)
+    camera_lead(ranked, camera_seen)
 }
 
 /// The best single candidate where it is a camera effect that improved on the baseline and
@@ -214,17 +235,23 @@ fn camera_lead_still_missing<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
     pair_fits: &[PairFit],
     noise_px: f64,
+    camera_seen: bool,
 ) -> Option<&'a WholeFit> {
     if pair_fits.is_empty() || reaches_noise(pair_fits, noise_px) {
         return None;
     }
-    camera_lead(ranked)
+    camera_lead(ranked, camera_seen)
 }
 
-/// The best single candidate's fit where it is a camera effect that improved on the baseline.
-fn camera_lead<'a>(ranked: &[(Candidate, Option<&'a WholeFit>)]) -> Option<&'a WholeFit> {
+/// The best single candidate's fit where it improved on the baseline and is a camera effect,
+/// or any effect where the segments see a camera (`camera_seen`: a physical effect can lead
+/// where the camera imitates part of it).
+fn camera_lead<'a>(
+    ranked: &[(Candidate, Option<&'a WholeFit>)],
+    camera_seen: bool,
+) -> Option<&'a WholeFit> {
     let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
-    (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
+    ((camera_seen || lead.effect.is_camera()) && lead.delta_score < 0.0).then_some(*w).flatten()
 }
 
 /// A pair of the forward selection: its two effects and its fit.
