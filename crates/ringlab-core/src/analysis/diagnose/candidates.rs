@@ -247,6 +247,32 @@ pub fn refit_from(
     fit_whole(&sh, g, &[from.start], &mut |_, _| {}, cancel)
 }
 
+/// Fit `from` over the whole run as one segment without its effect `drop`: from its drag,
+/// body, start state and the other effects' numbers.
+pub fn refit_without(
+    ms: &Shooting,
+    from: &WholeFit,
+    drop: EffectKind,
+    cancel: &AtomicBool,
+) -> Result<WholeFit, LmError> {
+    let kinds: Vec<EffectKind> = from.also.iter().map(|(k, _)| *k).chain([from.kind]).collect();
+    let own = from.internal.len() - kinds.iter().map(|k| k.free_count()).sum::<usize>();
+    let mut global = from.internal[..own].to_vec();
+    let (mut keep, mut at) = (Vec::new(), own);
+    for k in kinds {
+        let n = k.free_count();
+        if k != drop {
+            keep.push(k);
+            global.extend_from_slice(&from.internal[at..at + n]);
+        }
+        at += n;
+    }
+    let start = from.model.effects.slip_start;
+    let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &keep));
+    sh.segments = vec![from.span.clone()];
+    fit_whole(&sh, global, &[from.start], &mut |_, _| {}, cancel)
+}
+
 /// The misfit (sum of squares) where [`refit_from`] would start: one run.
 pub fn refit_start_cost(ms: &Shooting, kind: EffectKind, from: &WholeFit, strength: f64) -> f64 {
     let (sh, g) = single_segment(ms, kind, from, strength);
