@@ -176,6 +176,10 @@ impl DiagnoseJson {
                 params.insert("camera_tilt_deg".into(), finite(v));
                 params.insert("camera_tilt_deg_sigma".into(), finite(s));
             }
+            if let Some((v, s)) = f.rim_share {
+                params.insert("reynolds_rim_share".into(), finite(v));
+                params.insert("reynolds_rim_share_sigma".into(), finite(s));
+            }
             FitJson {
                 rms_px: f.rms_px,
                 excess_px: d.excess_px(f.rms_px),

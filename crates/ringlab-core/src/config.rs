@@ -240,6 +240,7 @@ impl CaseFile {
                 re_ref,
                 exponent,
                 max_factor,
+                rim_share: 0.0,
             }),
             rolling_friction: e.rolling_friction,
             pivot_friction: e.pivot_friction,

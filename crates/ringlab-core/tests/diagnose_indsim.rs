@@ -3,8 +3,9 @@
 //! camera), each kept because the diagnosis once got it wrong: a tracker that writes whole
 //! pixels (its noise was read too low), a lens beside a pinhole (no pair of camera effects was
 //! tried), a sliding ring filmed through a pinhole (slip alone never left the baseline through
-//! the wrong camera), pincushion distortion, glitches with swaps of adjacent marks, and a table that is
-//! not level (physics no candidate has: `unexplained`, never another effect's name).
+//! the wrong camera), pincushion distortion, glitches with swaps of adjacent marks, Reynolds drag of two other
+//! laws (the Reynolds number of the rim's speed, and of each rate: the candidate's law was
+//! the paper's alone, and left 4 px), and a table that is not level (physics no candidate has: `unexplained`, never another effect's name).
 
 mod common;
 mod said;
@@ -49,4 +50,23 @@ fn slip_filmed_through_a_pinhole_is_named_with_the_camera() {
     assert!((mu - 0.40).abs() < 0.01, "mu {mu}");
     let distance = d.after.camera.distance_mm.expect("a pinhole");
     assert!((distance / 500.0 - 1.0).abs() < 0.05, "{distance} mm");
+}
+
+#[test]
+fn reynolds_drag_of_the_rim_speed_is_named_with_that_law() {
+    let d = said::check("indsim", "reyn-rim");
+    // Re from |omega| R in truth.json: the rim's share of the fitted speed near 1, and the
+    // model at the noise.
+    let (share, _) = d.after.rim_share.expect("the share fitted");
+    assert!(share > 0.9, "share {share}");
+    assert!(d.after.rms_px < 1.05 * d.noise_px, "{} against {}", d.after.rms_px, d.noise_px);
+}
+
+#[test]
+fn reynolds_drag_of_another_shape_is_still_named_and_its_excess_said() {
+    // Each rate with its own Reynolds number: no share makes that law, but it is the Reynolds
+    // drag, named with what it leaves beyond the noise (never `unexplained` or another name).
+    let d = said::check("indsim", "reyn-each");
+    assert!(d.after.rms_px > 1.25 * d.noise_px, "left {} px", d.after.rms_px);
+    assert!(d.explanation.contains("not the whole story"), "{}", d.explanation);
 }

@@ -123,6 +123,46 @@ fn reynolds_drag_scales_the_coefficients_as_re_to_the_minus_n() {
 }
 
 #[test]
+fn reynolds_drag_on_the_rim_speed_follows_omega_r_and_a_share_blends_the_squares() {
+    let n = 0.5;
+    let centre = paper_model(EffectKind::ReynoldsDrag, n);
+    let re_ref = centre.effects.reynolds_drag.expect("on").re_ref;
+    let with_share = |share: f64| {
+        let mut e = centre.effects;
+        e.reynolds_drag =
+            e.reynolds_drag.map(|r| ringlab_core::physics::ReynoldsDrag { rim_share: share, ..r });
+        centre.clone().with_effects(e).expect("a share in [0, 1]")
+    };
+    let (rim, half) = (with_share(1.0), with_share(0.5));
+    for (theta, w) in [(0.7, [0.3, 2.0, 1.5]), (1.2, [-0.2, 0.4, 0.3]), (1.45, [0.05, 0.1, 3.0])] {
+        let w = nalgebra::Vector3::new(w[0], w[1], w[2]);
+        let v_c = centre.dynamics(theta, &w).v_c;
+        let (u_c, u_rim) = (v_c.norm(), w.norm() * centre.body.r);
+        for (m, u) in
+            [(&centre, u_c), (&rim, u_rim), (&half, (0.5 * u_c * u_c + 0.5 * u_rim * u_rim).sqrt())]
+        {
+            let k = (re_ref / m.reynolds(u)).powf(n).min(10.0);
+            let got = m.drag_coefficients(&v_c, &w);
+            for i in 0..3 {
+                assert!((got[i] - paper::C_RING[i] * k).abs() < 1e-12 * got[i], "U {u}");
+            }
+        }
+    }
+    // Spinning about the line from contact to centre moves the rim and not the centre: the
+    // paper's law sees no flow there, the rim's does.
+    let spin = nalgebra::Vector3::new(0.0, 0.0, 5.0);
+    let still = nalgebra::Vector3::zeros();
+    assert_eq!(centre.drag_coefficients(&still, &spin)[0], 10.0 * paper::C_RING[0]);
+    assert!(rim.drag_coefficients(&still, &spin)[0] < 10.0 * paper::C_RING[0]);
+    // A share outside [0, 1] is refused by name.
+    let mut e = centre.effects;
+    e.reynolds_drag =
+        e.reynolds_drag.map(|r| ringlab_core::physics::ReynoldsDrag { rim_share: 1.5, ..r });
+    let err = centre.clone().with_effects(e).expect_err("out of range");
+    assert!(err.to_string().contains("rim_share"), "{err}");
+}
+
+#[test]
 fn reynolds_drag_is_the_same_run_in_physical_units() {
     // Re is physical, so the effect must not depend on the unit system.
     let case = ringlab_core::config::load_preset("paper-ring").unwrap().build().unwrap();

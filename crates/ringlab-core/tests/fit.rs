@@ -6,7 +6,7 @@ mod common;
 
 use ringlab_core::analysis::fit::shooting::{PredictedMarks, Shooting};
 use ringlab_core::analysis::fit::{
-    FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, fit,
+    FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, StartReynolds, fit,
 };
 use ringlab_core::config::load_preset;
 use ringlab_core::physics::{EffectKind, RunOptions};
@@ -219,7 +219,7 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
             base: case.model.clone(),
             camera,
             free: Vec::new(),
-            re_start: 1.0,
+            re_start: StartReynolds { centre: 1.0, rim: 1.0 },
             strength_ranges: Vec::new(),
         };
         let sh = Shooting {

@@ -82,11 +82,12 @@ impl EffectKind {
     }
 
     /// The free numbers a fit of the effect adds: its strength, and for `camera_perspective`
-    /// the camera's tilt as well.
+    /// the camera's tilt as well, for `reynolds_drag` the rim's share of its speed
+    /// (`ReynoldsDrag::rim_share`).
     pub fn free_count(self) -> usize {
         match self {
             EffectKind::None => 0,
-            EffectKind::CameraPerspective => 2,
+            EffectKind::CameraPerspective | EffectKind::ReynoldsDrag => 2,
             _ => 1,
         }
     }
@@ -204,6 +205,7 @@ pub fn apply(
                     re_ref: re_start.max(1e-9),
                     exponent: strength,
                     max_factor: REYNOLDS_MAX_FACTOR,
+                    rim_share: 0.0,
                 })
             }
         }

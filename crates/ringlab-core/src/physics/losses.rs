@@ -127,7 +127,7 @@ mod tests {
         let (st, ct) = theta.sin_cos();
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
         let i_w = b.inertia.component_mul(w);
-        let c = m.drag_coefficients(d.v_c.norm());
+        let c = m.drag_coefficients(&d.v_c, w);
         let tau =
             Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let r_g = b.r_g();

@@ -29,12 +29,17 @@ pub mod ix {
 /// motion of the ring slows down, Re decreases and the drag coefficients increase"):
 /// `C_i(Re) = C_i (Re_ref / Re)^n`, with the factor capped at `max_factor` because the power
 /// law (laminar skin friction gives `n` near 1/2, section IV) does not hold as `Re -> 0`.
-/// `Re = 2 |v_C| R / nu_air` is physical, the same in every unit system.
+/// `Re = 2 U R / nu_air` is physical, the same in every unit system. Which speed `U` sets the
+/// flow round a spinning ring the paper does not pin down: it takes the centre's, `|v_C|`;
+/// the rim moves at `|omega| R`, faster wherever the ring spins about the line from contact
+/// to centre. `rim_share` blends the two, `U^2 = |v_C|^2 + s (|omega|^2 R^2 - |v_C|^2)`
+/// (0: the paper's, 1: the rim's), so that a drag law of that other shape is still this effect.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReynoldsDrag {
     pub re_ref: f64,
     pub exponent: f64,
     pub max_factor: f64,
+    pub rim_share: f64,
 }
 
 impl ReynoldsDrag {
@@ -109,6 +114,13 @@ impl Effects {
             check_positive("reynolds_drag re_ref", r.re_ref)?;
             check_non_negative("reynolds_drag exponent", r.exponent)?;
             check_finite("reynolds_drag max_factor", r.max_factor)?;
+            if !(0.0..=1.0).contains(&r.rim_share) {
+                return Err(ParamError {
+                    name: "reynolds_drag rim_share",
+                    value: r.rim_share,
+                    reason: "must lie in [0, 1] (0: the centre's speed, 1: the rim's)",
+                });
+            }
             if r.max_factor < 1.0 {
                 return Err(ParamError {
                     name: "reynolds_drag max_factor",
@@ -205,15 +217,27 @@ impl Model {
         2.0 * speed_c * self.body.r / self.nu_air
     }
 
-    /// The drag coefficients `C_i` at centre-of-mass speed `speed_c` (eq. 5, scaled with the
-    /// Reynolds number when that effect is on).
+    /// The speed whose Reynolds number scales the drag ([`ReynoldsDrag::rim_share`]), for the
+    /// centre's velocity `v_c` and the body's rate `w`.
     #[inline]
-    pub fn drag_coefficients(&self, speed_c: f64) -> [f64; 3] {
+    fn reynolds_speed(&self, re: &ReynoldsDrag, v_c: &Vector3<f64>, w: &Vector3<f64>) -> f64 {
+        let centre = v_c.norm_squared();
+        if re.rim_share == 0.0 {
+            return centre.sqrt();
+        }
+        let rim = w.norm_squared() * self.body.r * self.body.r;
+        (centre + re.rim_share * (rim - centre)).max(0.0).sqrt()
+    }
+
+    /// The drag coefficients `C_i` at centre velocity `v_c` and rate `w` (eq. 5, scaled with
+    /// the Reynolds number when that effect is on).
+    #[inline]
+    pub fn drag_coefficients(&self, v_c: &Vector3<f64>, w: &Vector3<f64>) -> [f64; 3] {
         let c = self.c_drag;
         match &self.effects.reynolds_drag {
             None => c,
             Some(re) => {
-                let k = re.factor(self.reynolds(speed_c));
+                let k = re.factor(self.reynolds(self.reynolds_speed(re, v_c, w)));
                 [c[0] * k, c[1] * k, c[2] * k]
             }
         }
@@ -242,11 +266,7 @@ impl Model {
         // f of eq. 4 (m = 1).
         let mut f = -om.cross(&l_g) - r_g.cross(&om_x_vc);
         f.x += self.g * (r * st - a * ct);
-        let mut c = self.c_drag;
-        if let Some(re) = &self.effects.reynolds_drag {
-            let k = re.factor(self.reynolds(v_c.norm()));
-            c = [c[0] * k, c[1] * k, c[2] * k];
-        }
+        let c = self.drag_coefficients(&v_c, w);
         // Eq. 5: J^-1 T_drag = tau, tau_i = -C_i |w_i| w_i.
         let tau = Vector3::new(-c[0] * w1.abs() * w1, -c[1] * w2.abs() * w2, -c[2] * w3.abs() * w3);
         let z = Vector3::new(0.0, st, ct);

@@ -188,7 +188,7 @@ impl SlidingModel {
         let z = Vector3::new(0.0, st, ct);
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
         let i_w = b.inertia.component_mul(&w);
-        let c = m.drag_coefficients(v_c.norm());
+        let c = m.drag_coefficients(&v_c, &w);
         let tau =
             Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let bv = -om.cross(&i_w) + b.j * tau;
@@ -377,7 +377,7 @@ mod tests {
         let (st, ct) = y[ix::THETA].sin_cos();
         let w = Vector3::new(y[3], y[4], y[5]);
         let om = Vector3::new(w.x, w.z * st / ct, w.z);
-        let c = m.drag_coefficients(dd.v_c.norm());
+        let c = m.drag_coefficients(&dd.v_c, &w);
         let tau =
             Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let rot = b.inertia.component_mul(&dd.omega_dot)

@@ -114,8 +114,9 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     };
     match kind {
         EffectKind::ReynoldsDrag => format!(
-            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.",
-            end_clause(s)
+            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.{}",
+            end_clause(s),
+            rim_share_clause(d)
         ),
         EffectKind::RollingFriction => format!(
             "A rolling-resistance torque k F_N takes energy at a rate that does not grow with the square of the speed as air drag does, so the fitted drag cannot match the decay of the fast start and of the slow end together.{late}{} Here the normal force acts {} ahead of the contact point.",
@@ -383,4 +384,21 @@ fn residual_words(d: &Diagnosis) -> String {
         String::new()
     };
     format!("{late}{radial}{}", end_clause(s))
+}
+
+/// Which speed the fitted Reynolds number follows: the paper's (the centre's), the rim's, or
+/// a blend (`ReynoldsDrag::rim_share`).
+fn rim_share_clause(d: &Diagnosis) -> String {
+    let Some((v, s)) = d.after.rim_share else { return String::new() };
+    let which = if v < 0.1 {
+        "the centre's speed, as the paper has it"
+    } else if v > 0.9 {
+        "the rim's speed |omega| R rather than the centre's (the paper's)"
+    } else {
+        "a speed between the centre's (the paper's) and the rim's"
+    };
+    format!(
+        " The Reynolds number here follows {which}: the rim's share of its speed fits as {}.",
+        pm(v, s)
+    )
 }

@@ -26,6 +26,9 @@ pub struct ModelFit {
     pub strength: Option<(f64, f64)>,
     /// The camera's tilt (degrees) and its sigma, where it was fitted.
     pub tilt_deg: Option<(f64, f64)>,
+    /// The rim's share of the speed of `reynolds_drag`'s Reynolds number and its sigma, where
+    /// it was fitted (0: the centre's speed, the paper's law).
+    pub rim_share: Option<(f64, f64)>,
     /// Effects fitted beside `effect` (a pair's first), with their strengths and sigmas.
     pub also: Vec<(EffectKind, (f64, f64))>,
     /// The body's outer radius and width as fitted (mm), with their sigmas.

@@ -414,6 +414,7 @@ fn describe(
         c_sigma: w.c_sigma,
         strength: w.strength,
         tilt_deg: w.tilt_deg,
+        rim_share: w.rim_share,
         also: w.also.clone(),
         body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
         start: Initial::from_state(&w.start),

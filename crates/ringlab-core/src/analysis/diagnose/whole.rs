@@ -35,6 +35,8 @@ pub struct WholeFit {
     pub strength: Option<(f64, f64)>,
     /// The camera's tilt (degrees) and its sigma, where it was fitted (`camera_perspective`).
     pub tilt_deg: Option<(f64, f64)>,
+    /// The rim's share of `reynolds_drag`'s speed and its sigma, where it was fitted.
+    pub rim_share: Option<(f64, f64)>,
     /// The body's outer radius and width (model units) and their sigmas.
     pub body: [(f64, f64); 2],
     /// The start state at the first frame of `span` (model units).
@@ -98,8 +100,10 @@ pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a>
     let mut strength_ranges = Vec::new();
     for &kind in kinds.iter().filter(|&&k| k != EffectKind::None) {
         free.push(Free::Effect(kind));
-        if kind == EffectKind::CameraPerspective {
-            free.push(Free::CameraTilt);
+        match kind {
+            EffectKind::CameraPerspective => free.push(Free::CameraTilt),
+            EffectKind::ReynoldsDrag => free.push(Free::ReynoldsRimShare),
+            _ => {}
         }
         strength_ranges.push((kind, search_range(kind, mu_max)));
     }
@@ -278,6 +282,7 @@ pub fn fit_path(
         c_sigma: [sigma(0), sigma(1), sigma(2)],
         strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
         tilt_deg: at(Free::CameraTilt).map(|_| value(Free::CameraTilt, 0.0)),
+        rim_share: at(Free::ReynoldsRimShare).map(|_| value(Free::ReynoldsRimShare, 0.0)),
         also: kinds[..kinds.len().saturating_sub(1)]
             .iter()
             .map(|&k| (k, value(Free::Effect(k), f64::NAN)))

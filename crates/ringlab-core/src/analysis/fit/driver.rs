@@ -6,14 +6,14 @@
 use super::coarse;
 use super::lm::{self, LmOptions, LmSolution};
 use super::options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};
-use super::params::{Free, ModelSpec};
+use super::params::{Free, ModelSpec, StartReynolds};
 use super::result::FitResult;
 use super::shooting::Shooting;
 use super::start::{
     features, fit_segment, init_segments, level_start, reconstruct, split, start_at_turning_point,
 };
 use crate::physics::effects::EffectKind;
-use crate::physics::{Model, RunOptions, Sample, StateVec, TurnKind};
+use crate::physics::{Model, RunOptions, StateVec, TurnKind};
 use crate::recording::recover::{RecoveredMotion, recover_with};
 use crate::recording::tracks::{CheckedTracks, as_tracked, check_tracks};
 use crate::recording::{Camera, Recording};
@@ -154,7 +154,7 @@ impl FitRun<'_> {
         {
             free.push(Free::Effect(kind));
         }
-        let re_start = Sample::new(&base, 0.0, &y0).reynolds;
+        let re_start = StartReynolds::of(&base, &y0);
         let spec =
             ModelSpec { base, camera: data.camera, free, re_start, strength_ranges: Vec::new() };
         let shooting = Shooting {

@@ -38,6 +38,10 @@ pub trait BlockProblem: Sync {
     ) -> Option<Vec<Vec<f64>>> {
         None
     }
+    /// Brings a trial step's globals back into their box, where some are bounded (a projected
+    /// Levenberg-Marquardt step: the others still move where one sits at its bound). Default:
+    /// none bounded.
+    fn project_global(&self, _global: &mut [f64]) {}
     /// Called before each batch of parallel evaluations, so that a problem with a shared work
     /// budget decides once per batch whether it is spent, not in the threads' order.
     fn settle(&self) {}
@@ -271,7 +275,8 @@ pub fn solve(
                 continue;
             };
             cov = Some(schur_inverse);
-            let g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
+            let mut g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
+            p.project_global(&mut g_t);
             let b_t: Vec<Vec<f64>> = b
                 .iter()
                 .zip(&db)

@@ -54,5 +54,5 @@ mod start;
 
 pub use driver::fit;
 pub use options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};
-pub use params::{Free, ModelSpec};
+pub use params::{Free, ModelSpec, StartReynolds};
 pub use result::FitResult;

@@ -23,6 +23,9 @@ pub enum Free {
     Body(usize),
     /// The camera's tilt from the vertical (degrees), beside `camera_perspective`'s distance.
     CameraTilt,
+    /// The rim's share of the speed that sets `reynolds_drag`'s Reynolds number (0 to 1,
+    /// `ReynoldsDrag::rim_share`), beside its exponent.
+    ReynoldsRimShare,
 }
 
 /// The largest camera tilt a fit may try (degrees): beyond, a lab would not call the camera
@@ -37,7 +40,34 @@ impl Free {
             Free::Body(0) => "R".into(),
             Free::Body(_) => "h".into(),
             Free::CameraTilt => "camera tilt (deg)".into(),
+            Free::ReynoldsRimShare => "reynolds_drag rim share".into(),
         }
+    }
+}
+
+/// The Reynolds numbers at a fit's start state, of the centre's speed and of the rim's: the
+/// reference of `reynolds_drag`, so that its `C_i` are those at the start whichever speed
+/// its law follows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StartReynolds {
+    pub centre: f64,
+    pub rim: f64,
+}
+
+impl StartReynolds {
+    /// At the start state `y` of `model`'s body.
+    pub fn of(model: &Model, y: &crate::physics::StateVec) -> StartReynolds {
+        let w = (y[3] * y[3] + y[4] * y[4] + y[5] * y[5]).sqrt();
+        StartReynolds {
+            centre: crate::physics::Sample::new(model, 0.0, y).reynolds,
+            rim: model.reynolds(w * model.body.r),
+        }
+    }
+
+    /// Where the Reynolds number's speed is the rim's by `rim_share` (`ReynoldsDrag`).
+    pub fn blended(&self, rim_share: f64) -> f64 {
+        let (c, r) = (self.centre * self.centre, self.rim * self.rim);
+        (c + rim_share * (r - c)).max(0.0).sqrt()
     }
 }
 
@@ -48,8 +78,8 @@ pub struct ModelSpec {
     pub base: Model,
     pub camera: Camera,
     pub free: Vec<Free>,
-    /// Reynolds number at the start (the reference of `reynolds_drag`).
-    pub re_start: f64,
+    /// Reynolds numbers at the start (the reference of `reynolds_drag`).
+    pub re_start: StartReynolds,
     /// Where each effect's strength may go (an effect not listed: wherever it allows).
     pub strength_ranges: Vec<(EffectKind, (f64, f64))>,
 }
@@ -67,7 +97,7 @@ impl ModelSpec {
             .zip(values)
             .map(|(f, v)| match f {
                 Free::Drag(_) | Free::Body(_) => v.max(1e-12).ln(),
-                Free::Effect(_) | Free::CameraTilt => *v,
+                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => *v,
             })
             .collect()
     }
@@ -79,7 +109,7 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) | Free::CameraTilt => *x,
+                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => *x,
             })
             .collect()
     }
@@ -91,7 +121,7 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) | Free::CameraTilt => 1.0,
+                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => 1.0,
             })
             .collect()
     }
@@ -108,6 +138,9 @@ impl ModelSpec {
                 }
                 Free::Effect(_) => 0.0,
                 Free::CameraTilt => self.camera.tilt_rad.to_degrees(),
+                Free::ReynoldsRimShare => {
+                    self.base.effects.reynolds_drag.map_or(0.0, |r| r.rim_share)
+                }
                 Free::Body(0) => self.base.body.r,
                 Free::Body(_) => self.base.body.h,
             })
@@ -163,8 +196,25 @@ impl ModelSpec {
                     if self.out_of_range(*kind, v) {
                         return None;
                     }
-                    effects::apply(*kind, v, model.body.r, self.re_start, &mut model.effects)
-                        .ok()?;
+                    effects::apply(
+                        *kind,
+                        v,
+                        model.body.r,
+                        self.re_start.centre,
+                        &mut model.effects,
+                    )
+                    .ok()?;
+                }
+                // After the exponent (its `Free` comes later): where that is zero the drag
+                // has no Reynolds law for the share to shape.
+                Free::ReynoldsRimShare => {
+                    if !(0.0..=1.0).contains(&v) {
+                        return None;
+                    }
+                    if let Some(r) = model.effects.reynolds_drag.as_mut() {
+                        r.rim_share = v;
+                        r.re_ref = self.re_start.blended(v).max(1e-9);
+                    }
                 }
                 Free::Body(_) => {}
             }
@@ -183,6 +233,26 @@ impl ModelSpec {
             Free::Drag(_) | Free::Body(_) => 1e-6,
             Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
             Free::CameraTilt => 1e-5,
+            // Into the box from either bound.
+            Free::ReynoldsRimShare => {
+                if x > 0.5 {
+                    -1e-6
+                } else {
+                    1e-6
+                }
+            }
+        }
+    }
+
+    /// Internal coordinates brought into the box of the bounded parameters (the rim's share
+    /// of the Reynolds speed, 0 to 1): a least-squares step that would leave it stops at the
+    /// bound, the rest of the step kept. The paper's law sits at a bound (share 0), so without
+    /// this every step towards a law the share cannot make would be refused whole.
+    pub fn project(&self, internal: &mut [f64]) {
+        for (f, x) in self.free.iter().zip(internal.iter_mut()) {
+            if *f == Free::ReynoldsRimShare {
+                *x = x.clamp(0.0, 1.0);
+            }
         }
     }
 }

@@ -1,6 +1,6 @@
 //! What a fit found, and the fitted model run again.
 
-use super::params::{Free, ModelSpec};
+use super::params::{Free, ModelSpec, StartReynolds};
 use super::shooting::Shooting;
 use crate::physics::effects::EffectKind;
 use crate::physics::run::RunError;
@@ -49,7 +49,7 @@ pub struct FitResult {
     /// The marks' circle in model units.
     pub geometry: MarkGeometry,
     /// Reynolds number at the start (the reference of `reynolds_drag`).
-    pub re_start: f64,
+    pub re_start: StartReynolds,
     /// The integration settings of the fit's runs.
     pub run: RunOptions,
     pub compute_seconds: f64,

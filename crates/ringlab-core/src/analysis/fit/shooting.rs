@@ -272,6 +272,9 @@ impl BlockProblem for Shooting<'_> {
     fn global_step(&self, i: usize, value: f64) -> f64 {
         self.spec.step(i, value)
     }
+    fn project_global(&self, global: &mut [f64]) {
+        self.spec.project(global);
+    }
     fn local_step(&self, _: usize, value: f64) -> f64 {
         1e-6 * value.abs().max(1.0)
     }
