@@ -74,10 +74,24 @@ pub struct DiagnoseJson {
     pub explanation: String,
     pub compute_seconds: f64,
     pub noise_px: f64,
+    /// Where the tracker's noise is correlated in time (the baseline's residual shows it and
+    /// nothing else): what the tracks read, the correlation, and `noise_px` corrected for it.
+    pub noise_correlation: Option<NoiseCorrelationJson>,
     pub windows: Vec<WindowJson>,
     pub frames: usize,
     pub frames_fitted: usize,
     pub segments_rms_px: f64,
+}
+
+#[derive(Serialize, Debug)]
+pub struct NoiseCorrelationJson {
+    /// The tracks' own reading (px), before the correction.
+    pub tracks_px: f64,
+    /// The correlation from one frame to the next, and the lag (frames) where it has died out.
+    pub lag1: f64,
+    pub range_frames: usize,
+    /// The baseline's RMS that the corrected level agreed with (px).
+    pub residual_px: f64,
 }
 
 #[derive(Serialize, Debug)]
@@ -250,6 +264,12 @@ impl DiagnoseJson {
             explanation: d.explanation.clone(),
             compute_seconds: d.compute_seconds,
             noise_px: d.noise_px,
+            noise_correlation: d.noise_correlation.as_ref().map(|c| NoiseCorrelationJson {
+                tracks_px: c.tracks_px,
+                lag1: c.rho.get(1).copied().unwrap_or(0.0),
+                range_frames: c.range_frames,
+                residual_px: c.residual_px,
+            }),
             windows: d.windows.iter().map(window).collect(),
             frames: d.frames,
             frames_fitted: d.frames_fitted,

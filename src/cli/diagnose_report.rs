@@ -245,7 +245,12 @@ fn markdown(file: &Path, rec: &Recording, d: &Diagnosis) -> String {
         rec.header.shape,
         format_args!("R = {} mm, h = {} mm", rec.header.outer_radius_mm, rec.header.width_mm),
         d.noise_px,
-        if d.noise_from_marks { " (estimated from the marks)" } else { "" },
+        match (&d.noise_correlation, d.noise_from_marks) {
+            (Some(_), _) =>
+                " (estimated from the marks, corrected for the tracker's correlation in time)",
+            (None, true) => " (estimated from the marks)",
+            (None, false) => "",
+        },
         env!("CARGO_PKG_VERSION"),
         d.compute_seconds
     );

@@ -123,7 +123,15 @@ fn result_ui(
             )
         });
         row(ui, "mismatch", window);
-        let noise_from = if r.noise_from_marks { "from the tracks" } else { "from the fit" };
+        let noise_from = match (&r.noise_correlation, r.noise_from_marks) {
+            (Some(c), _) => format!(
+                "from the tracks, {:.3} px read, corrected: correlated {:.2} frame to frame",
+                c.tracks_px,
+                c.rho.get(1).copied().unwrap_or(0.0)
+            ),
+            (None, true) => "from the tracks".to_string(),
+            (None, false) => "from the fit".to_string(),
+        };
         row(ui, "pixel noise", format!("{:.3} px ({noise_from})", r.noise_px));
         row(ui, "glitches", format!("{} mark positions left out", r.glitches.len()));
         row(ui, "misfit", format!("{:.3} px -> {:.3} px", r.before.rms_px, r.after.rms_px));
@@ -140,6 +148,13 @@ fn result_ui(
             r.after.also.iter().copied().chain(r.after.strength.map(|s| (r.after.effect, s)))
         {
             row(ui, kind.parameter(), pm(v, s));
+        }
+        if let Some((v, s)) = r.after.tilt_deg {
+            row(ui, "camera tilt (deg)", pm(v, s));
+        }
+        // Which speed the fitted Re follows: 0 the centre's (the paper's), 1 the rim's.
+        if let Some((v, s)) = r.after.rim_share {
+            row(ui, "Re speed: rim share", pm(v, s));
         }
         for i in 0..3 {
             row(ui, &format!("C{}", i + 1), pm(r.after.c[i], r.after.c_sigma[i]));

@@ -5,7 +5,9 @@
 //! tried), a sliding ring filmed through a pinhole (slip alone never left the baseline through
 //! the wrong camera), pincushion distortion, glitches with swaps of adjacent marks, Reynolds drag of two other
 //! laws (the Reynolds number of the rim's speed, and of each rate: the candidate's law was
-//! the paper's alone, and left 4 px), and a table that is not level (physics no candidate has: `unexplained`, never another effect's name).
+//! the paper's alone, and left 4 px), a table that is not level (physics no candidate has: `unexplained`, never another effect's name),
+//! and a tracker whose noise is correlated from frame to frame (its tracks read half the noise,
+//! and a right baseline was `unexplained`).
 
 mod common;
 mod said;
@@ -69,4 +71,15 @@ fn reynolds_drag_of_another_shape_is_still_named_and_its_excess_said() {
     let d = said::check("indsim", "reyn-each");
     assert!(d.after.rms_px > 1.25 * d.noise_px, "left {} px", d.after.rms_px);
     assert!(d.explanation.contains("not the whole story"), "{}", d.explanation);
+}
+
+#[test]
+fn a_trackers_correlated_noise_is_noise_not_a_missing_effect() {
+    // AR(1) noise, 0.6 frame to frame, 0.5 px: `check` asks `none` and the noise within 20%.
+    let d = said::check("indsim", "noise-corr");
+    let c = d.noise_correlation.as_ref().expect("the correlation found");
+    assert!((c.rho[1] - 0.6).abs() < 0.1, "{c:?}");
+    // The tracks alone read it low; corrected, it is the noise the baseline leaves.
+    assert!(c.tracks_px < 0.7 * d.noise_px, "{c:?}");
+    assert!(d.before.rms_px < 1.1 * d.noise_px, "{} against {}", d.before.rms_px, d.noise_px);
 }

@@ -9,7 +9,7 @@
 //! "Within the noise": no test window of [`super::residual`] departs, at the test width and
 //! at four times it (a slow, small deviation shows in the wider windows first).
 
-use super::residual::{departures, frame_sums, windows};
+use super::residual::{NoiseLevel, departures, frame_sums, windows};
 use super::whole::{WholeFit, fit_whole, with_effect};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
@@ -45,13 +45,13 @@ pub fn follows(
     sh: &Shooting,
     fit: &WholeFit,
     frames: Range<usize>,
-    noise_px: f64,
+    noise: NoiseLevel,
     width: usize,
 ) -> bool {
     let Some(pred) = fit.marks(sh) else { return false };
     let sums = frame_sums(sh.observed, frames.clone(), &pred[..frames.len().min(pred.len())]);
-    departures(&windows(&sums, noise_px, width)).is_empty()
-        && departures(&windows(&sums, noise_px, 4 * width)).is_empty()
+    departures(&windows(&sums, noise, width)).is_empty()
+        && departures(&windows(&sums, noise, 4 * width)).is_empty()
 }
 
 /// Finds the departure. `ms` is the baseline's multiple-shooting problem (drag free) with its
@@ -59,7 +59,7 @@ pub fn follows(
 pub fn find(
     ms: &Shooting,
     states: &[StateVec],
-    noise_px: f64,
+    noise: NoiseLevel,
     width: usize,
     cancel: &AtomicBool,
 ) -> Result<Departure, LmError> {
@@ -75,14 +75,14 @@ pub fn find(
         fit_whole(&prefix(end), g.to_vec(), &[y], &mut |_, _| {}, cancel)
     };
     let mut good = fit_prefix(first.end, &g0, y0)?;
-    if !follows(&prefix(first.end), &good, span.start..first.end, noise_px, width) {
+    if !follows(&prefix(first.end), &good, span.start..first.end, noise, width) {
         return Ok(Departure { followed: span.start..span.start, departs: true, fit: good });
     }
     let mut bad = None;
     while good.span.end < span.end {
         let end = (span.start + 2 * good.span.len()).min(span.end);
         let trial = fit_prefix(end, &good.internal, good.start)?;
-        if follows(&prefix(end), &trial, span.start..end, noise_px, width) {
+        if follows(&prefix(end), &trial, span.start..end, noise, width) {
             good = trial;
         } else {
             bad = Some(end);
@@ -98,7 +98,7 @@ pub fn find(
             break;
         }
         let trial = fit_prefix(mid, &good.internal, good.start)?;
-        if follows(&prefix(mid), &trial, span.start..mid, noise_px, width) {
+        if follows(&prefix(mid), &trial, span.start..mid, noise, width) {
             good = trial;
         } else {
             bad_end = mid;

@@ -215,7 +215,16 @@ fn noise_words(d: &Diagnosis) -> String {
             if n == 1 { "" } else { "s" }
         ),
     };
-    format!("{:.3} px ({source}{glitches})", d.noise_px)
+    let correlated = match &d.noise_correlation {
+        None => String::new(),
+        Some(c) => format!(
+            "; the tracker's noise is correlated from frame to frame ({:.2} at one frame, died out by {} frames, in the baseline's residual and nothing longer), which the tracks read low as {:.3} px, so their reading is corrected for it",
+            c.rho.get(1).copied().unwrap_or(0.0),
+            c.range_frames,
+            c.tracks_px
+        ),
+    };
+    format!("{:.3} px ({source}{glitches}{correlated})", d.noise_px)
 }
 
 /// The consistency test, in words.

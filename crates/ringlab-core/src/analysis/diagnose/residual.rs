@@ -24,6 +24,21 @@ pub const Z_WINDOW: f64 = 5.0;
 /// Departing windows closer than this many windows join into one mismatch window.
 pub const JOIN_GAP_WINDOWS: usize = 2;
 
+/// The noise a residual is judged against: its level per coordinate, and how much wider a
+/// window's sum of squares spreads than under white noise (1: white; a tracker's correlated
+/// noise spreads it wider, `noise_correlation`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoiseLevel {
+    pub px: f64,
+    pub spread: f64,
+}
+
+impl NoiseLevel {
+    pub fn white(px: f64) -> NoiseLevel {
+        NoiseLevel { px, spread: 1.0 }
+    }
+}
+
 /// Squared residual sum and coordinate count of every frame of `span`; `pred[i]` is frame
 /// `span.start + i`.
 pub fn frame_sums(
@@ -65,16 +80,17 @@ pub struct Window {
     pub excess: f64,
 }
 
-/// The test windows over `sums` for noise `noise_px` and `width` frames each.
-pub fn windows(sums: &[(f64, usize)], noise_px: f64, width: usize) -> Vec<Window> {
+/// The test windows over `sums` for `noise` and `width` frames each.
+pub fn windows(sums: &[(f64, usize)], noise: NoiseLevel, width: usize) -> Vec<Window> {
     let width = width.max(1);
+    let (noise_px, spread) = (noise.px, noise.spread.max(1.0));
     let var = noise_px * noise_px;
     (0..sums.len())
         .step_by(width)
         .map(|a| {
             let b = (a + width).min(sums.len());
             let (s, n) = sums[a..b].iter().fold((0.0, 0usize), |acc, x| (acc.0 + x.0, acc.1 + x.1));
-            let limit = 1.0 + Z_WINDOW * (2.0 / n.max(1) as f64).sqrt();
+            let limit = 1.0 + Z_WINDOW * (2.0 * spread / n.max(1) as f64).sqrt();
             let rms = if n > 0 { (s / n as f64).sqrt() } else { f64::NAN };
             Window {
                 frames: a..b,
@@ -120,13 +136,13 @@ mod tests {
         let n = 3000;
         let mut sums: Vec<(f64, usize)> =
             (0..n).map(|_| ((0..8).map(|_| (sigma * rng.normal()).powi(2)).sum(), 8)).collect();
-        let w = windows(&sums, sigma, 15);
+        let w = windows(&sums, NoiseLevel::white(sigma), 15);
         assert!(departures(&w).is_empty(), "{:?}", departures(&w));
         // A 1 px drift over frames 2000..2300.
         for s in &mut sums[2000..2300] {
             s.0 += 8.0;
         }
-        let d = departures(&windows(&sums, sigma, 15));
+        let d = departures(&windows(&sums, NoiseLevel::white(sigma), 15));
         assert_eq!(d.len(), 1, "{d:?}");
         assert_eq!(d[0].0, 1995..2310);
         assert!((d[0].1 - 8.0 * 300.0).abs() < 300.0, "excess {}", d[0].1);

@@ -2,6 +2,7 @@
 //! (plain data, cloneable, no references into the recording).
 
 use super::candidates::STAGE_CEILING;
+use super::noise_correlation::NoiseCorrelation;
 use crate::physics::effects::EffectKind;
 use crate::physics::{Initial, Model, Units};
 use crate::recording::Camera;
@@ -232,6 +233,9 @@ pub struct Diagnosis {
     /// `noise_from_marks` false).
     pub noise_px: f64,
     pub noise_from_marks: bool,
+    /// The tracker's noise correlated in time, where the baseline's residual shows it: then
+    /// `noise_px` is the tracks' reading corrected for it (`noise_correlation`).
+    pub noise_correlation: Option<NoiseCorrelation>,
     /// The tracker's glitches left out of every fit (`recording::glitches`).
     pub glitches: Vec<Glitch>,
     /// The baseline and the chosen model on the same misfit (the same unless effects were named).

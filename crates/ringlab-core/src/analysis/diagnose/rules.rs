@@ -26,10 +26,13 @@ pub fn explained_share(before_px: f64, after_px: f64, noise_px: f64) -> f64 {
     ((before_px * before_px - after_px * after_px) / excess).clamp(0.0, 1.0)
 }
 
-/// BIC of a fit with `cost` over `n` residuals and `k` parameters.
-pub fn bic(cost: f64, n: usize, k: usize) -> f64 {
-    let n = n.max(1) as f64;
-    n * (cost / n).max(1e-300).ln() + k as f64 * n.ln()
+/// BIC of a fit with `cost` over `n` residuals and `k` parameters, where `dependence`
+/// residuals count as one independent one (1 for white noise; a tracker's correlated noise
+/// moves a fitted parameter as much as white noise on `n / dependence` residuals would:
+/// `noise_correlation`).
+pub fn bic(cost: f64, n: usize, k: usize, dependence: f64) -> f64 {
+    let n_independent = n.max(1) as f64 / dependence.max(1.0);
+    n_independent * (cost / n.max(1) as f64).max(1e-300).ln() + k as f64 * n_independent.ln()
 }
 
 /// What one more free number costs in [`bic`] over `n` residuals: a number is worth keeping

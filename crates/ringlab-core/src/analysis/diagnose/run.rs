@@ -4,9 +4,12 @@ use super::again::{Again, camera_second_pass, walk_best_singles_again};
 use super::candidates::{fit_baseline, fit_candidates};
 use super::departure::{self, Departure};
 use super::explain::explain;
+use super::noise_correlation::{self, NoiseCorrelation};
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
 use super::progress::Reporter;
-use super::residual::{MIN_WINDOW_FRAMES, WINDOW_S, departures, frame_rms, frame_sums, windows};
+use super::residual::{
+    MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, departures, frame_rms, frame_sums, windows,
+};
 use super::result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
     Signature, Trace,
@@ -69,23 +72,42 @@ pub fn diagnose(
     let seen = seen_camera(&base, &rec.frames, &opts.candidates, opts.evidence, cancel)?;
     laps.lap("the camera the segments see");
     let (baseline, levels) = baseline_path(&ms, &base, progress, cancel)?;
+    // A tracker's noise correlated in time, read from the baseline's residual.
+    let noise = noise.with_correlation(&baseline, &ms, tracks.noise.as_ref());
     laps.lap("baseline over the whole run");
     let (departure, baseline, fits) = candidates_and_departure(
         rec, &fit_opts, &ms, &base, baseline, &levels, &noise, opts, progress, cancel,
     )?;
     laps.lap("candidates and departure");
-    let mut ranked = rank(&baseline, &fits);
-    let (finding, chosen, pairs) = forward_selection(
-        &Again { rec, fit_opts: &fit_opts, seen: seen.as_ref() },
-        &ms,
-        &levels,
-        &baseline,
-        &mut ranked,
-        noise.px,
-        opts.evidence,
-        progress,
-        cancel,
-    )?;
+    let again = Again { rec, fit_opts: &fit_opts, seen: seen.as_ref() };
+    let select = |ranked: &mut [(Candidate, Option<&WholeFit>)], noise: &Noise| {
+        forward_selection(
+            &again,
+            &ms,
+            &levels,
+            &baseline,
+            ranked,
+            noise.px,
+            noise.dependence(),
+            opts.evidence,
+            progress,
+            cancel,
+        )
+    };
+    let mut ranked = rank(&baseline, &fits, noise.dependence());
+    let (mut finding, mut chosen, mut pairs) = select(&mut ranked, &noise)?;
+    // A missing effect hides a tracker's correlation from the baseline's residual; the
+    // residual of the model named (else of the best single candidate) may show it, and the
+    // decision is made again against the noise corrected for it.
+    let best = noise.best_model(&finding, chosen.as_ref(), &ranked);
+    let noise = match best.and_then(|w| noise.again_from(w, &ms, tracks.noise.as_ref())) {
+        Some(corrected) => {
+            ranked = rank(&baseline, &fits, corrected.dependence());
+            (finding, chosen, pairs) = select(&mut ranked, &corrected)?;
+            corrected
+        }
+        None => noise,
+    };
     laps.lap("pairs and the decision");
     progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
@@ -139,6 +161,8 @@ struct Noise {
     /// Whether it came from the marks' tracks (else the baseline's misfit stands in).
     from_marks: bool,
     window_frames: usize,
+    /// The tracker's correlation in time, where the baseline's residual shows one.
+    correlation: Option<NoiseCorrelation>,
 }
 
 impl Noise {
@@ -146,7 +170,69 @@ impl Noise {
         let from_marks = base.noise_px.is_some_and(|v| v.is_finite() && v > 0.0);
         let px = base.noise_px.filter(|_| from_marks).unwrap_or(base.rms_px);
         let window_frames = ((WINDOW_S * rec.header.fps).round() as usize).max(MIN_WINDOW_FRAMES);
-        Noise { px, from_marks, window_frames }
+        Noise { px, from_marks, window_frames, correlation: None }
+    }
+
+    /// The level corrected for a tracker's correlation in time, where the residual of the
+    /// whole-run `baseline` shows one and nothing else (`noise_correlation`).
+    fn with_correlation(
+        self,
+        baseline: &WholeFit,
+        ms: &Shooting,
+        tracks: Option<&crate::recording::noise::NoiseEstimate>,
+    ) -> Noise {
+        let (Some(tracks), Some(pred)) = (tracks.filter(|_| self.from_marks), baseline.marks(ms))
+        else {
+            return self;
+        };
+        match noise_correlation::measure(ms.observed, baseline.span.start, &pred, tracks) {
+            Some(c) => Noise { px: c.px, correlation: Some(c), ..self },
+            None => self,
+        }
+    }
+
+    /// The model whose residual may show the tracker's correlation where the baseline's did
+    /// not: the one named, else (`unexplained`) the single candidate that fits best.
+    fn best_model<'a>(
+        &self,
+        finding: &Finding,
+        chosen: Option<&'a WholeFit>,
+        ranked: &[(Candidate, Option<&'a WholeFit>)],
+    ) -> Option<&'a WholeFit> {
+        if self.correlation.is_some() {
+            return None;
+        }
+        match finding {
+            Finding::Nothing => None,
+            Finding::Named(_) => chosen,
+            Finding::Unexplained { .. } => ranked
+                .iter()
+                .filter(|(c, w)| {
+                    c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite()
+                })
+                .min_by(|a, b| a.0.rms_px.total_cmp(&b.0.rms_px))
+                .and_then(|(_, w)| *w),
+        }
+    }
+
+    /// The level corrected as [`Noise::with_correlation`] does, from the residual of `fit`.
+    fn again_from(
+        &self,
+        fit: &WholeFit,
+        ms: &Shooting,
+        tracks: Option<&crate::recording::noise::NoiseEstimate>,
+    ) -> Option<Noise> {
+        let noise = Noise { correlation: None, ..*self }.with_correlation(fit, ms, tracks);
+        noise.correlation.is_some().then_some(noise)
+    }
+
+    fn level(&self) -> NoiseLevel {
+        NoiseLevel { px: self.px, spread: self.correlation.as_ref().map_or(1.0, |c| c.spread()) }
+    }
+
+    /// Residuals per independent one, for BIC ([`bic`]).
+    fn dependence(&self) -> f64 {
+        self.correlation.as_ref().map_or(1.0, |c| c.dependence())
     }
 }
 
@@ -242,13 +328,14 @@ fn candidates_and_departure(
     cancel: &AtomicBool,
 ) -> Result<(Departure, WholeFit, Fits), DiagnoseError> {
     let (noise_px, width) = (noise.px, noise.window_frames);
-    let follows_whole = departure::follows(ms, &baseline, baseline.span.clone(), noise_px, width);
+    let follows_whole =
+        departure::follows(ms, &baseline, baseline.span.clone(), noise.level(), width);
     let (departure, candidates) = rayon::join(
         || {
             if follows_whole {
                 Ok(Departure::none(&baseline))
             } else {
-                departure::find(ms, &base.segment_states, noise_px, width, cancel)
+                departure::find(ms, &base.segment_states, noise.level(), width, cancel)
             }
         },
         || candidates_stage(ms, baseline.clone(), levels, opts, progress, cancel),
@@ -263,9 +350,13 @@ fn candidates_and_departure(
 }
 
 /// Stage 4: the baseline and every candidate, best BIC first.
-fn rank<'a>(baseline: &'a WholeFit, fits: &'a Fits) -> Vec<(Candidate, Option<&'a WholeFit>)> {
+fn rank<'a>(
+    baseline: &'a WholeFit,
+    fits: &'a Fits,
+    dependence: f64,
+) -> Vec<(Candidate, Option<&'a WholeFit>)> {
     let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
     let none_score = score(baseline);
     let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
         Candidate {
@@ -332,7 +423,7 @@ fn describe(
     let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
     let (noise_px, width, noise_from_marks) = (noise.px, noise.window_frames, noise.from_marks);
     let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, noise.dependence());
     let pred_before = baseline.marks(ms).ok_or(DiagnoseError::Baseline)?;
     let pred_after = chosen.marks(ms).ok_or(DiagnoseError::Baseline)?;
     // The stretch's fit run on over the whole span (its own span is the stretch alone).
@@ -345,9 +436,9 @@ fn describe(
     let sums_before = frame_sums(&rec.frames, span.clone(), &pred_before);
     let sums_after = frame_sums(&rec.frames, span.clone(), &pred_after);
     let sums_followed = frame_sums(&rec.frames, span.clone(), &pred_followed);
-    let win_before = windows(&sums_before, noise_px, width);
-    let win_after = windows(&sums_after, noise_px, width);
-    let win_followed = windows(&sums_followed, noise_px, width);
+    let win_before = windows(&sums_before, noise.level(), width);
+    let win_after = windows(&sums_after, noise.level(), width);
+    let win_followed = windows(&sums_followed, noise.level(), width);
     let (mismatch, found) = mismatch_windows(
         departure,
         &span,
@@ -430,6 +521,7 @@ fn describe(
         windows: found,
         noise_px,
         noise_from_marks,
+        noise_correlation: noise.correlation.clone(),
         glitches: tracks.glitches.clone(),
         before: model_fit(baseline, signature.end_before_s),
         after: model_fit(chosen, signature.end_after_s),

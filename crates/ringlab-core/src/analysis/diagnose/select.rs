@@ -27,12 +27,13 @@ pub(super) fn forward_selection(
     baseline: &WholeFit,
     ranked: &mut [(Candidate, Option<&WholeFit>)],
     noise_px: f64,
+    dependence: f64,
     evidence: f64,
     progress: &Reporter,
     cancel: &AtomicBool,
 ) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
     let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
     let none_score = score(baseline);
     let (mut finding, chosen) = decide(baseline, ranked, noise_px, evidence);
     let mut chosen = chosen.unwrap_or(baseline);
@@ -43,7 +44,7 @@ pub(super) fn forward_selection(
     } else {
         Vec::new()
     };
-    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count);
+    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
     let mut pair_fits = pair_fits;
     // The steps through a camera below go on from the pairs only where they were fitted.
     let pairs_fitted = !pair_fits.is_empty();
