@@ -1,6 +1,6 @@
 //! A recording made outside ringlab, diagnosed and checked against its folder's `truth.json`
 //! (`tests/data/FOLDER/`): what was said (effects in any order, `none` or `unexplained`), the
-//! noise within 20% of the truth's, and a named model's cut of the misfit beyond the noise.
+//! noise within 20% of the truth's (correlated in time only where the truth says so), and a named model's cut of the misfit beyond the noise.
 #![allow(dead_code)]
 
 use crate::common;
@@ -11,6 +11,8 @@ use std::sync::atomic::AtomicBool;
 pub struct Truth {
     pub left_out: Vec<String>,
     pub noise_px: f64,
+    /// The noise's correlation from frame to frame (0: white).
+    pub noise_corr: f64,
 }
 
 pub fn truth(folder: &str, name: &str) -> Truth {
@@ -24,7 +26,11 @@ pub fn truth(folder: &str, name: &str) -> Truth {
         .iter()
         .map(|v| v.as_str().expect("a name").to_string())
         .collect();
-    Truth { left_out, noise_px: t["noise_px"].as_f64().expect("noise_px") }
+    Truth {
+        left_out,
+        noise_px: t["noise_px"].as_f64().expect("noise_px"),
+        noise_corr: t["noise_corr"].as_f64().unwrap_or(0.0),
+    }
 }
 
 pub fn run(folder: &str, name: &str) -> (Diagnosis, Truth) {
@@ -53,6 +59,13 @@ pub fn check(folder: &str, name: &str) -> Diagnosis {
         "{name}: noise {} against {}",
         d.noise_px,
         truth.noise_px
+    );
+    // White noise is never taken for a tracker's correlated noise.
+    assert_eq!(
+        d.noise_correlation.is_some(),
+        truth.noise_corr > 0.0,
+        "{name}: {:?}",
+        d.noise_correlation
     );
     if !d.finding.named().is_empty() {
         let (before, after) = (d.excess_px(d.before.rms_px), d.excess_px(d.after.rms_px));
