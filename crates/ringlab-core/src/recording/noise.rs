@@ -77,7 +77,7 @@ fn robust_scale(abs_diffs: &mut [f64]) -> f64 {
 }
 
 /// `C(n, k)` as a float.
-fn binomial(n: usize, k: usize) -> f64 {
+pub(crate) fn binomial(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |acc, j| acc * (n - j) as f64 / (j + 1) as f64)
 }
 

@@ -17,7 +17,7 @@
 //! that correlation does to the differences they read, which must agree with the residual.
 
 use crate::analysis::fit::shooting::PredictedMarks;
-use crate::recording::noise::NoiseEstimate;
+use crate::recording::noise::{NoiseEstimate, binomial};
 use crate::recording::{FrameMarks, MARKS};
 
 /// Lag-1 correlation below which the noise counts as white (the tracks read such noise at
@@ -108,12 +108,8 @@ fn correlations(products: &[(f64, usize)]) -> Vec<f64> {
 /// What the correlation `rho` does to the variance of the order-`order` differences the
 /// tracks read, against white noise: `sum_ab w_a w_b rho(|a-b|) / sum w^2`.
 pub fn difference_factor(order: usize, rho: &[f64]) -> f64 {
-    let w: Vec<f64> = (0..=order)
-        .map(|j| {
-            let c = (0..j).fold(1.0, |acc, i| acc * (order - i) as f64 / (i + 1) as f64);
-            if j % 2 == 0 { c } else { -c }
-        })
-        .collect();
+    let w: Vec<f64> =
+        (0..=order).map(|j| if j % 2 == 0 { 1.0 } else { -1.0 } * binomial(order, j)).collect();
     let at = |k: usize| rho.get(k).copied().unwrap_or(0.0);
     let white: f64 = w.iter().map(|x| x * x).sum();
     let mut sum = 0.0;
