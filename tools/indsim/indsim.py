@@ -353,6 +353,20 @@ class Cam:
         return px
 
 
+def exposed(px, sub, shutter, blur, height, n_moving, n_rest):
+    """Each frame's marks as a camera exposes them: row y read `shutter` frame intervals times
+    y / height after the frame's time (a rolling shutter), each mark the mean of its positions
+    over `blur` of a frame interval from there (motion blur)."""
+    frames = (n_moving + sub - 1) // sub + n_rest
+    out = np.empty((frames, 4, 2))
+    span = max(1, int(round(blur * sub)))
+    for i in range(frames):
+        for k in range(4):
+            j = i * sub + int(round(shutter * sub * px[i * sub, k, 1] / height))
+            out[i, k] = px[j:j + span, k].mean(axis=0)
+    return out
+
+
 def make(name, spec, rng):
     shape = spec.get("shape", "ring")
     r_mm, h_mm, w_mm = spec.get("body_mm", [20.66, 18.0, 1.0] if shape == "ring" else [31.75, 6.14, 31.75])
@@ -363,7 +377,12 @@ def make(name, spec, rng):
     w = [0.0, phid0 * math.sin(th0) + psid0, phid0 * math.cos(th0)]
     y0 = [spec.get("phi0", rng.uniform(-math.pi, math.pi)), th0, 0.0] + w + [0.0, 0.0]
     dt_frame = 1.0 / fps / body.time_unit_s
-    t, ys, slides = simulate(body, model, y0, spec.get("t_end", 400.0), dt_frame,
+    # a camera's exposure within the frame (rolling shutter, motion blur) needs the motion
+    # between frames: `sub` samples per frame
+    shutter = spec.get("rolling_shutter", 0.0)
+    blur = spec.get("blur", 0.0)
+    sub = 16 if (shutter or blur) else 1
+    t, ys, slides = simulate(body, model, y0, spec.get("t_end", 400.0), dt_frame / sub,
                              spec.get("start_mode", "roll"), spec.get("rtol", 1e-10))
     # rest frames after the end
     n_rest = spec.get("rest_frames", 30)
@@ -371,7 +390,7 @@ def make(name, spec, rng):
     size = spec.get("image_px", [1280, 1024])
     cam = Cam(spec.get("camera", {}), px_per_mm, size)
     pts = np.array([[p * body.unit_mm for p in marks_3d(body, y)] for y in ys])  # mm
-    pts = np.concatenate([pts, np.repeat(pts[-1:], n_rest, axis=0)])
+    pts = np.concatenate([pts, np.repeat(pts[-1:], n_rest * sub + (2 * sub if sub > 1 else 0), axis=0)])
     # place the path: its box centred at a chosen fraction of the image (in table mm)
     lo, hi = pts[:, :, :2].reshape(-1, 2).min(0), pts[:, :, :2].reshape(-1, 2).max(0)
     span_mm = np.array(size) / px_per_mm
@@ -379,13 +398,21 @@ def make(name, spec, rng):
     target = (where - 0.5) * span_mm * np.array([1, -1])
     pts[:, :, :2] += target - (lo + hi) / 2
     px = np.array([[cam.project(p) for p in f] for f in pts])
+    if sub > 1:
+        px = exposed(px, sub, shutter, blur, size[1], len(ys), n_rest)
     if spec.get("reverse_marks"):
         px = px[:, [0, 3, 2, 1]]
     # the tracker: noise (white or correlated), quantisation, outliers, swaps, lost marks
     sigma = spec.get("noise_px", 0.5)
     corr = spec.get("noise_corr", 0.0)
     n = len(px)
-    e = rng.normal(0, sigma, px.shape)
+    if spec.get("noise_dist") == "t3":
+        # heavy tails: Student's t with 3 degrees of freedom, scaled to the same sigma
+        e = rng.standard_t(3, px.shape) * sigma / math.sqrt(3.0)
+    else:
+        e = rng.normal(0, sigma, px.shape)
+    if "noise_per_mark" in spec:
+        e *= np.array(spec["noise_per_mark"])[None, :, None] / sigma
     if corr > 0:
         # AR(1) with the same marginal sigma
         for i in range(1, n):

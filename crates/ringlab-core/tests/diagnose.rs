@@ -250,7 +250,7 @@ fn a_pair_whose_second_effect_explains_little_alone_is_named() {
 
 /// A pinhole camera beside translational drag (the bench's
 /// `pair:translational_drag+camera_perspective`, seed 1, chosen because it shows this): the
-/// pinhole alone fits at the wrong distance and translational drag alone not at all, and the
+/// pinhole alone fits at the wrong distance and translational drag alone hardly at all, and the
 /// pair walked from the baseline's path (segments fitted through the orthographic camera)
 /// keeps the drag at zero. Fitted through the camera the pinhole found, the drag shows, and
 /// both are named at the noise.
@@ -259,9 +259,13 @@ fn a_physical_effect_hidden_behind_a_pinhole_is_found_through_its_camera() {
     let d = diagnose_pair(EffectKind::TranslationalDrag, EffectKind::CameraPerspective, 1);
     let drag =
         d.candidates.iter().find(|c| c.effect == EffectKind::TranslationalDrag).expect("ranked");
+    // Alone, even refitted from across its range, the drag leaves most of the excess (2.34 of
+    // 2.64 px against 0.50 px of noise).
     assert!(
-        explained_share(d.before.rms_px, drag.rms_px, d.noise_px) < 0.05,
-        "translational drag alone must explain nothing here, else this test shows nothing"
+        explained_share(d.before.rms_px, drag.rms_px, d.noise_px) < 0.5
+            && drag.rms_px > 4.0 * d.noise_px,
+        "translational drag alone must explain little here, else this test shows nothing: {} px",
+        drag.rms_px
     );
     assert_named(&d, &[EffectKind::CameraPerspective, EffectKind::TranslationalDrag]);
     assert!(d.after.rms_px < 1.1 * NOISE_PX, "left {} px", d.after.rms_px);
