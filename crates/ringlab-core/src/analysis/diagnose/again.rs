@@ -146,6 +146,8 @@ fn scan_from_baseline(
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     use rayon::prelude::*;
+    // The candidate's time counts the whole scan, every start and the polish, kept or not.
+    let clock = Instant::now();
     let fits: Vec<Result<WholeFit, LmError>> = scan_strengths(w.kind)
         .par_iter()
         .map(|&s| refit_from(ms, w.kind, baseline, s, cancel))
@@ -160,16 +162,18 @@ fn scan_from_baseline(
             _ => {}
         }
     }
-    let Some(mut best) = best else { return Ok(()) };
+    let Some(mut best) = best else {
+        w.seconds += clock.elapsed().as_secs_f64();
+        return Ok(());
+    };
     // Once more from where it ended: from so far up a valley's side one fit can run out of
     // iterations on the way down (0.534 px after 20; 0.498 px after 10 more).
-    let seconds = w.seconds + best.seconds;
     match polish(ms, &best, cancel) {
         Ok(p) if p.cost < best.cost => best = p,
         Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
         _ => {}
     }
-    *w = WholeFit { seconds, ..best };
+    *w = WholeFit { seconds: w.seconds + clock.elapsed().as_secs_f64(), ..best };
     Ok(())
 }
 
