@@ -17,7 +17,11 @@ use std::sync::atomic::AtomicBool;
 /// Iterations allowed at each intermediate segmentation (they only need to keep the path in
 /// the right valley), and at the final single segment.
 pub const LEVEL_ITERATIONS: usize = 6;
+/// Fresh Jacobians allowed at the final single segment, and the Broyden steps allowed after
+/// each (see `lm`): over the whole run the fit creeps along a curved valley in many small
+/// steps, each of which a fresh Jacobian (14 whole runs) would cost five times over.
 const FINAL_ITERATIONS: usize = 20;
+const FINAL_SECANT_STEPS: usize = 3;
 /// The last stage stops when an iteration gains less than this share of the misfit: a BIC
 /// difference of 0.1 over 10,000 coordinates is a share of 1e-5.
 const FINAL_REL_TOL: f64 = 1e-5;
@@ -233,6 +237,7 @@ pub fn fit_path(
             max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
             rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
             covariance: last,
+            secant_steps: if last { FINAL_SECANT_STEPS } else { 0 },
             ..LmOptions::default()
         };
         let sol = lm::solve(
