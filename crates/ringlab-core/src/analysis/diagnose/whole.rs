@@ -19,7 +19,7 @@ use std::sync::atomic::AtomicBool;
 pub const LEVEL_ITERATIONS: usize = 6;
 /// Fresh Jacobians allowed at the final single segment, and the Broyden steps allowed after
 /// each (see `lm`): over the whole run the fit creeps along a curved valley in many small
-/// steps, each of which a fresh Jacobian (14 whole runs) would cost five times over.
+/// steps, and a secant step costs one run where a fresh Jacobian costs 14 to 16.
 const FINAL_ITERATIONS: usize = 20;
 const FINAL_SECANT_STEPS: usize = 3;
 /// The last stage stops when an iteration gains less than this share of the misfit: a BIC
