@@ -2,7 +2,7 @@
 
 use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, with_slip_start};
 use super::options::DiagnoseError;
-use super::rules::CONSISTENT_RATIO;
+use super::rules::{CONSISTENT_RATIO, settled};
 use super::seen_camera::FoundCamera;
 use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
@@ -61,7 +61,7 @@ pub(super) fn camera_second_pass(
 /// [`PAIR_WALKS`] times while each walk cuts its misfit by a tenth or more and it still misses
 /// beyond the noise: a weak strength grows a little with each walk (translational drag beside
 /// a pinhole, 0.085 drawn: 3.83 px at 0.006 after the first walk, 0.73 px at 0.073 after the
-/// second).
+/// second). Not walked where it has settled the recording already ([`settled`]).
 pub(super) fn walk_best_pair_again(
     again: &Again,
     ms: &Shooting,
@@ -72,6 +72,9 @@ pub(super) fn walk_best_pair_again(
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let Some(p) = best_pair(pairs, score) else { return Ok(()) };
+    if settled(p.rms_px(), noise_px) {
+        return Ok(());
+    }
     for _ in 0..PAIR_WALKS {
         let before = p.cost;
         walk_again(again, ms, levels, p, cancel)?;

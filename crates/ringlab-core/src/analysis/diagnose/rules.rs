@@ -16,6 +16,17 @@ pub fn excess_px(rms_px: f64, noise_px: f64) -> f64 {
     (rms_px * rms_px - noise_px * noise_px).max(0.0).sqrt()
 }
 
+/// A model whose excess over the noise is at most this share of the noise has settled the
+/// recording: no other model can do better than the noise lets one tell, so the forward
+/// selection tries no further pairs (a right model ends within 2% of the noise: an excess of
+/// 0.2 noise). Tighter than [`CONSISTENT_RATIO`], which says only that nothing is missing.
+pub const SETTLED_EXCESS: f64 = 0.2;
+
+/// Whether a model with misfit `rms_px` has settled the recording ([`SETTLED_EXCESS`]).
+pub fn settled(rms_px: f64, noise_px: f64) -> bool {
+    excess_px(rms_px, noise_px) <= SETTLED_EXCESS * noise_px
+}
+
 /// The share of the baseline's squared misfit beyond the noise (`before^2 - noise^2`) that a
 /// model with misfit `after` removes (1: all of it, down to the noise).
 pub fn explained_share(before_px: f64, after_px: f64, noise_px: f64) -> f64 {
@@ -58,4 +69,19 @@ pub fn explains(before_px: f64, after_px: f64, noise_px: f64) -> bool {
     explained_share(before_px, after_px, noise_px) >= MIN_EXPLAINED
         && (excess_px(after_px, noise_px) * MIN_EXCESS_CUT <= excess_px(before_px, noise_px)
             || after_px <= CONSISTENT_RATIO * noise_px)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settled_is_an_excess_of_a_fifth_of_the_noise() {
+        // An excess of 0.2 noise is a misfit of sqrt(1.04) = 1.0198 times the noise.
+        assert!(settled(0.5099, 0.5));
+        assert!(!settled(0.5100, 0.5));
+        assert!(settled(0.49, 0.5));
+        // Stricter than consistent: 1.1 times the noise is consistent but not settled.
+        assert!(0.55 <= CONSISTENT_RATIO * 0.5 && !settled(0.55, 0.5));
+    }
 }

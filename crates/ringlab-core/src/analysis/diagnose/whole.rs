@@ -75,6 +75,11 @@ impl WholeFit {
         predict_samples(&self.model, &sh.run, sh.dt, &self.start, self.span.clone())
     }
 
+    /// Its effects in the order fitted: those beside it, then its own.
+    pub fn kinds(&self) -> Vec<EffectKind> {
+        self.also.iter().map(|(k, _)| *k).chain([self.kind]).collect()
+    }
+
     /// The predicted marks at the span's frames (px), on the marks' circle of this fit's body.
     pub fn marks(&self, sh: &Shooting) -> Option<PredictedMarks> {
         let geometry = MarkGeometry {
