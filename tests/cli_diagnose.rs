@@ -154,7 +154,7 @@ fn the_bench_table_is_made_from_saved_rows() {
         "{text}"
     );
     assert!(text.contains("| camera-known:tilted | none | 1 | 1/1 (false alarms 0%) |"), "{text}");
-    assert!(text.contains("| single:slip | slip | 3 | 2/3 (67%) | unexplained | 10.99 -> 0.000 px | >999x | 20.0 / 30.0 s |"), "{text}");
+    assert!(text.contains("| single:slip | slip | 3 | 2/3 (67%) | unexplained | 10.99 -> 0.000 px | >999x | 20.0 / 30.0 s | 25.0 / 35.3 s |"), "{text}");
     // Pairs are right in either order; a `none` where the baseline misses by twice the noise is counted.
     assert!(
         text.contains(
@@ -163,6 +163,8 @@ fn the_bench_table_is_made_from_saved_rows() {
         "{text}"
     );
     assert!(text.contains("twice the noise or more: 1."), "{text}");
+    // The speed goal, per 2,000 frames: single:slip seed 3 (30 s, 1,700 frames) misses it.
+    assert!(text.contains("within 30 s per 2,000 frames: 7 of 8."), "{text}");
     // A diagnosis that failed is a wrong answer in its family, not a false alarm.
     assert!(
         text.contains("| glitches:none | none | 2 | 1/2 (false alarms 0%) | failed |"),

@@ -71,10 +71,18 @@ impl Row {
     fn named(&self) -> bool {
         !matches!(self.said.as_str(), "none" | "unexplained" | FAILED)
     }
+    /// The diagnosis's time scaled to a recording of 2,000 frames (the speed goal's unit).
+    fn seconds_per_2000_frames(&self) -> f64 {
+        self.seconds * 2000.0 / self.frames.max(1) as f64
+    }
     fn excess(&self) -> (f64, f64) {
         (excess_px(self.before, self.noise), excess_px(self.after, self.noise))
     }
 }
+
+/// The speed goal: seconds of diagnosis per 2,000 frames, every candidate and the pairs, on 2
+/// cores.
+const SPEED_GOAL_S: f64 = 30.0;
 
 /// A row's `said` where the diagnosis returned an error (its numbers are then zero).
 const FAILED: &str = "failed";
@@ -111,8 +119,8 @@ fn table(rows: &[Row]) -> String {
         }
     }
     let mut out = String::new();
-    out.push_str("| family | should say | recordings | right | said instead | excess beyond the noise before -> after, median (when right and named) | smallest cut | time median / max |\n");
-    out.push_str("|---|---|---|---|---|---|---|---|\n");
+    out.push_str("| family | should say | recordings | right | said instead | excess beyond the noise before -> after, median (when right and named) | smallest cut | time median / max | per 2,000 frames median / max |\n");
+    out.push_str("|---|---|---|---|---|---|---|---|---|\n");
     for f in &families {
         let r: Vec<&Row> = rows.iter().filter(|r| r.family == *f).collect();
         let ok = r.iter().filter(|r| r.right()).count();
@@ -132,6 +140,8 @@ fn table(rows: &[Row]) -> String {
         let smallest = named.iter().map(|r| cut(r)).fold(f64::INFINITY, f64::min);
         let mut secs: Vec<f64> = r.iter().map(|r| r.seconds).collect();
         let max_s = secs.iter().copied().fold(0.0, f64::max);
+        let mut per: Vec<f64> = r.iter().map(|r| r.seconds_per_2000_frames()).collect();
+        let max_per = per.iter().copied().fold(0.0, f64::max);
         let share = 100.0 * ok as f64 / r.len() as f64;
         let rate = if r[0].expected == "none" {
             // Something said missing where nothing is (a failed diagnosis said nothing).
@@ -157,12 +167,14 @@ fn table(rows: &[Row]) -> String {
             format!("{smallest:.1}x")
         };
         out.push_str(&format!(
-            "| {f} | {} | {} | {rate} | {} | {improvement} | {smallest} | {:.1} / {:.1} s |\n",
+            "| {f} | {} | {} | {rate} | {} | {improvement} | {smallest} | {:.1} / {:.1} s | {:.1} / {:.1} s |\n",
             r[0].expected,
             r.len(),
             if wrong.is_empty() { "-".to_string() } else { wrong.join(", ") },
             median(&mut secs),
-            max_s
+            max_s,
+            median(&mut per),
+            max_per
         ));
     }
     let none_far = rows.iter().filter(|r| r.said == "none" && r.before >= 2.0 * r.noise).count();
@@ -170,9 +182,11 @@ fn table(rows: &[Row]) -> String {
         let (b, a) = r.excess();
         a * 4.0 > b && a >= 0.15 * r.noise
     });
+    let fast = rows.iter().filter(|r| r.seconds_per_2000_frames() <= SPEED_GOAL_S).count();
     out.push_str(&format!(
-        "\n`none` said where the baseline missed by twice the noise or more: {none_far}. Named rightly but the excess cut less than 4x and left above 0.15 noise: {}.\n",
-        weak.count()
+        "\n`none` said where the baseline missed by twice the noise or more: {none_far}. Named rightly but the excess cut less than 4x and left above 0.15 noise: {}. Diagnosed within {SPEED_GOAL_S:.0} s per 2,000 frames: {fast} of {}.\n",
+        weak.count(),
+        rows.len()
     ));
     out
 }
