@@ -10,6 +10,7 @@ use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitError, FitOptions, fit};
 use crate::physics::effects::EffectKind;
 use crate::recording::{Camera, Recording};
+use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -276,6 +277,7 @@ pub(super) fn slip_through_camera(
 /// 1.71 px, the pair with the drag stays there; through the 805 mm camera the drag alone
 /// reaches 0.70 px). The other camera effect too: a pinhole 346 mm away found through a lens
 /// it does not know leaves 1.77 px, and the pair walked from the baseline's path 5.4 px.
+/// A fit made before through the same camera (`again` keeps them) is not made again.
 pub(super) fn effects_through_camera(
     again: &Again,
     ms: &Shooting,
@@ -283,7 +285,6 @@ pub(super) fn effects_through_camera(
     kinds: &[EffectKind],
     cancel: &AtomicBool,
 ) -> Result<Vec<WholeFit>, DiagnoseError> {
-    let clock = Instant::now();
     let cameras = &found.numbers;
     // Every effect asked for that the camera does not already hold (the other camera effect
     // too: a real camera is a pinhole with a lens).
@@ -293,11 +294,33 @@ pub(super) fn effects_through_camera(
     if cameras.is_empty() || kinds.is_empty() {
         return Ok(Vec::new());
     }
+    let missing: Vec<EffectKind> =
+        kinds.iter().copied().filter(|&k| again.made(found, k).is_none()).collect();
+    if !missing.is_empty() {
+        let fits = fit_through_camera(again, ms, found, &missing, cancel)?;
+        for (k, fit) in missing.into_iter().zip(fits) {
+            again.keep(found, k, fit);
+        }
+    }
+    Ok(kinds.into_iter().filter_map(|k| again.made(found, k).flatten()).collect())
+}
+
+/// [`effects_through_camera`] made for `kinds`: each one's fit, None where it failed.
+fn fit_through_camera(
+    again: &Again,
+    ms: &Shooting,
+    found: &FoundCamera,
+    kinds: &[EffectKind],
+    cancel: &AtomicBool,
+) -> Result<Vec<Option<WholeFit>>, DiagnoseError> {
+    let clock = Instant::now();
+    let cameras = &found.numbers;
+    let failed = || Ok(vec![None; kinds.len()]);
     let base =
         match fit(again.rec, &through_camera_of(&found.camera, again.fit_opts), &|_| {}, cancel) {
             Ok(b) => b,
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            Err(_) => return Ok(Vec::new()),
+            Err(_) => return failed(),
         };
     let through = base.shooting(&again.rec.frames);
     let Some((baseline, levels)) =
@@ -307,7 +330,7 @@ pub(super) fn effects_through_camera(
             Err(_) => None,
         })
     else {
-        return Ok(Vec::new());
+        return failed();
     };
     // Each pair's time: the fits through the camera that all share, and its own.
     let shared_seconds = clock.elapsed().as_secs_f64();
@@ -337,15 +360,13 @@ pub(super) fn effects_through_camera(
     };
     use rayon::prelude::*;
     let fits: Vec<Result<WholeFit, LmError>> = kinds.par_iter().map(|&k| one(k)).collect();
-    let mut out = Vec::new();
-    for f in fits {
-        match f {
-            Ok(p) => out.push(p),
-            Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
-            _ => {}
-        }
-    }
-    Ok(out)
+    fits.into_iter()
+        .map(|f| match f {
+            Ok(p) => Ok(Some(p)),
+            Err(LmError::Cancelled) => Err(DiagnoseError::Cancelled),
+            Err(_) => Ok(None),
+        })
+        .collect()
 }
 
 /// What a fit made again from the recording needs (a multiple-shooting fit through another
@@ -355,6 +376,32 @@ pub(super) struct Again<'a> {
     pub(super) fit_opts: &'a FitOptions,
     /// The camera the baseline's segments see ([`super::seen_camera`]), where they see one.
     pub(super) seen: Option<&'a FoundCamera>,
+    /// The fits through a camera made so far, by camera and effect (None: it failed): several
+    /// stages ask for the same ones (the stage before the decision, and the decision made
+    /// again for a tracker's correlated noise), and each costs a multiple-shooting fit and
+    /// whole paths.
+    made: Mutex<Vec<(FoundCamera, EffectKind, Option<WholeFit>)>>,
+}
+
+impl<'a> Again<'a> {
+    pub(super) fn new(
+        rec: &'a Recording,
+        fit_opts: &'a FitOptions,
+        seen: Option<&'a FoundCamera>,
+    ) -> Again<'a> {
+        Again { rec, fit_opts, seen, made: Mutex::new(Vec::new()) }
+    }
+
+    /// The fit of `kind` through `camera` made before (`Some(None)`: it failed).
+    fn made(&self, camera: &FoundCamera, kind: EffectKind) -> Option<Option<WholeFit>> {
+        let made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        made.iter().find(|(c, k, _)| c == camera && *k == kind).map(|(_, _, w)| w.clone())
+    }
+
+    fn keep(&self, camera: &FoundCamera, kind: EffectKind, fit: Option<WholeFit>) {
+        let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        made.push((camera.clone(), kind, fit));
+    }
 }
 
 /// The multiple-shooting fit's options with `camera` held fixed.
