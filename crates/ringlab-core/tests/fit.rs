@@ -4,17 +4,20 @@
 
 mod common;
 
-use ringlab_core::analysis::fit::shooting::{PredictedMarks, Shooting};
+use ringlab_core::analysis::fit::shooting::{
+    PredictedMarks, Shooting, StepChoice, predict_with_steps,
+};
 use ringlab_core::analysis::fit::{
     FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, StartReynolds, fit,
 };
 use ringlab_core::config::load_preset;
-use ringlab_core::physics::{EffectKind, RunOptions};
+use ringlab_core::physics::integrator::Tolerances;
+use ringlab_core::physics::{EffectKind, Model, ReynoldsDrag, RunOptions, Sample, paper};
 use ringlab_core::recording::marks::{MarkGeometry, MarkOrder};
 use ringlab_core::recording::synth::{SynthOptions, synthesize};
 use ringlab_core::recording::{Camera, Recording, read_recording};
-use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 
 fn run(rec: &Recording, opts: &FitOptions) -> FitResult {
     fit(rec, opts, &|_| {}, &AtomicBool::new(false)).expect("fit")
@@ -247,4 +250,55 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
             );
         }
     }
+}
+
+/// Max over the frames of |forward difference - reference derivative| of the centre's x, and
+/// the reference's largest |derivative|.
+fn derivative_error(a: &[Sample], b: &[Sample], reference: &[f64], h: f64) -> (f64, f64) {
+    let err = a.iter().zip(b).zip(reference).map(|((a, b), d)| ((b.x_a - a.x_a) / h - d).abs());
+    (err.fold(0.0, f64::max), reference.iter().fold(0.0, |m, d| m.max(d.abs())))
+}
+
+#[test]
+fn runs_that_follow_a_kept_runs_steps_difference_smoothly() {
+    // A forward difference of two adaptive runs carries the tolerance's jitter over the step;
+    // the perturbed run taken at the kept run's step ends differs smoothly (steps.rs).
+    let model = paper::ring_model(paper::C_RING);
+    let with_reynolds = |n: f64| {
+        let mut m = model.clone();
+        m.effects.reynolds_drag =
+            Some(ReynoldsDrag { re_ref: 500.0, exponent: n, max_factor: 10.0, rim_share: 0.0 });
+        m
+    };
+    let y0 = paper::initial().to_state();
+    let (dt, frames) = (0.01, 0..800);
+    let tol = |rtol: f64| RunOptions {
+        tol: Tolerances { rtol, atol: 1e-2 * rtol },
+        ..RunOptions::default()
+    };
+    let (loose, tight) = (tol(1e-8), tol(1e-13));
+    let run = |m: &Model, opts: &RunOptions, choice| {
+        predict_with_steps(m, opts, dt, &y0, frames.clone(), choice)
+    };
+    let kept = run(&model, &loose, StepChoice::Keep);
+    let ends: Arc<[f64]> = Arc::from(kept.step_ends.clone());
+    assert_eq!(ends.len() as u64, kept.steps);
+    let base = kept.samples.expect("the paper's run");
+    // Followed at the same parameters, the same run.
+    let same = run(&model, &loose, StepChoice::Follow(&ends)).samples.expect("a run");
+    let moved = base.iter().zip(&same).map(|(a, b)| (a.x_a - b.x_a).abs()).fold(0.0, f64::max);
+    assert!(moved < 1e-12, "{moved}");
+    // The Reynolds exponent from the paper's drag (0) by 1e-6.
+    let h = 1e-6;
+    let m1 = with_reynolds(h);
+    let t0 = run(&model, &tight, StepChoice::Adaptive).samples.expect("a run");
+    let t1 = run(&m1, &tight, StepChoice::Adaptive).samples.expect("a run");
+    let reference: Vec<f64> = t0.iter().zip(&t1).map(|(a, b)| (b.x_a - a.x_a) / h).collect();
+    let followed = run(&m1, &loose, StepChoice::Follow(&ends)).samples.expect("a run");
+    let adaptive = run(&m1, &loose, StepChoice::Adaptive).samples.expect("a run");
+    let (e_followed, size) = derivative_error(&base, &followed, &reference, h);
+    let (e_adaptive, _) = derivative_error(&base, &adaptive, &reference, h);
+    assert!(size > 0.5, "the exponent moves the path: {size}");
+    assert!(e_followed < 1e-3 * size, "followed: {e_followed} of {size}");
+    assert!(e_adaptive > 10.0 * e_followed, "adaptive {e_adaptive}, followed {e_followed}");
 }

@@ -82,6 +82,14 @@ impl Contact {
         }
     }
 
+    /// One step to exactly `t_target` ([`Dop853::step_to`]).
+    pub fn step_to(&mut self, t_target: f64, max_err: f64) -> bool {
+        match self {
+            Contact::Rolling(s) => s.step_to(t_target, max_err),
+            Contact::Sliding(s) => s.step_to(t_target, max_err),
+        }
+    }
+
     /// The rolling part of the current state (all of it while rolling).
     pub fn state(&self) -> &StateVec {
         match self {

@@ -16,8 +16,20 @@
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use thiserror::Error;
+
+/// What [`BlockProblem::at_point`] works out at the point of a Jacobian, for its columns.
+#[derive(Clone, Debug, Default)]
+pub struct AtPoint {
+    /// Forward-difference columns (steps from [`BlockProblem::local_step`]) for
+    /// [`BlockProblem::symmetric_locals`], in that order.
+    pub symmetry: Vec<Vec<f64>>,
+    /// What the columns' evaluations share: the model run's step ends, which the runs of the
+    /// columns follow (`physics::run`'s `steps.rs`: a smooth difference at any tolerance).
+    pub step_ends: Option<Arc<[f64]>>,
+}
 
 /// Residuals in blocks; each block's length must not depend on the parameters.
 pub trait BlockProblem: Sync {
@@ -30,20 +42,27 @@ pub trait BlockProblem: Sync {
     fn global_step(&self, i: usize, value: f64) -> f64;
     /// Forward-difference step for local parameter `i` at `value`.
     fn local_step(&self, i: usize, value: f64) -> f64;
-    /// Local parameters whose Jacobian columns [`BlockProblem::symmetry_columns`] gives
-    /// without re-evaluating the block (a symmetry of the problem). Default: none.
+    /// Local parameters whose Jacobian columns [`BlockProblem::at_point`] gives without
+    /// re-evaluating the block (a symmetry of the problem). Default: none.
     fn symmetric_locals(&self) -> &[usize] {
         &[]
     }
-    /// The forward-difference columns (steps from [`BlockProblem::local_step`]) of block `s`
-    /// for [`BlockProblem::symmetric_locals`], in that order; None where they cannot be had.
-    fn symmetry_columns(
+    /// Once per block where a Jacobian is made, before its columns: the columns of
+    /// [`BlockProblem::symmetric_locals`] and what the other columns' evaluations share. None
+    /// where it cannot be had. Default: nothing shared (and no symmetric locals).
+    fn at_point(&self, _s: usize, _global: &[f64], _local: &[f64]) -> Option<AtPoint> {
+        Some(AtPoint::default())
+    }
+    /// Residuals of block `s` for a forward-difference column at `at`'s point. Default: as
+    /// [`BlockProblem::residuals`].
+    fn column_residuals(
         &self,
-        _s: usize,
-        _global: &[f64],
-        _local: &[f64],
-    ) -> Option<Vec<Vec<f64>>> {
-        None
+        s: usize,
+        global: &[f64],
+        local: &[f64],
+        _at: &AtPoint,
+    ) -> Option<Vec<f64>> {
+        self.residuals(s, global, local)
     }
     /// Brings a trial step's globals back into their box, where some are bounded (a projected
     /// Levenberg-Marquardt step: the others still move where one sits at its bound). Default:
@@ -151,22 +170,19 @@ fn linearize(
     p.settle();
     let (ng, nb) = (p.global_count(), p.block_size());
     let sym = p.symmetric_locals();
-    // One job per (block, column), and one per block for the columns a symmetry gives (None).
-    let jobs: Vec<(usize, Option<usize>)> = (0..p.block_count())
+    let at: Option<Vec<AtPoint>> =
+        (0..p.block_count()).into_par_iter().map(|s| p.at_point(s, g, &b[s])).collect();
+    let at = at?;
+    p.settle();
+    // One job per (block, column) left after the symmetry's.
+    let jobs: Vec<(usize, usize)> = (0..p.block_count())
         .flat_map(|s| {
-            let plain = (0..ng + nb)
-                .filter(move |&c| c < ng || !sym.contains(&(c - ng)))
-                .map(move |c| (s, Some(c)));
-            plain.chain((!sym.is_empty()).then_some((s, None)))
+            (0..ng + nb).filter(move |&c| c < ng || !sym.contains(&(c - ng))).map(move |c| (s, c))
         })
         .collect();
-    let results: Option<Vec<Vec<(usize, Vec<f64>)>>> = jobs
+    let results: Option<Vec<(usize, Vec<f64>)>> = jobs
         .par_iter()
         .map(|&(s, c)| {
-            let Some(c) = c else {
-                let cols = p.symmetry_columns(s, g, &b[s])?;
-                return Some(sym.iter().map(|&i| ng + i).zip(cols).collect());
-            };
             let (mut gg, mut bb) = (g.to_vec(), b[s].clone());
             let h = if c < ng {
                 let h = p.global_step(c, gg[c]);
@@ -177,14 +193,20 @@ fn linearize(
                 bb[c - ng] += h;
                 h
             };
-            let r = p.residuals(s, &gg, &bb)?;
-            Some(vec![(c, r.iter().zip(&base[s]).map(|(a, r0)| (a - r0) / h).collect())])
+            let r = p.column_residuals(s, &gg, &bb, &at[s])?;
+            Some((c, r.iter().zip(&base[s]).map(|(a, r0)| (a - r0) / h).collect()))
         })
         .collect();
     let mut cols: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); ng + nb]; p.block_count()];
-    for (&(s, _), found) in jobs.iter().zip(results?) {
-        for (c, col) in found {
-            cols[s][c] = col;
+    for (&(s, _), (c, col)) in jobs.iter().zip(results?) {
+        cols[s][c] = col;
+    }
+    for (s, at) in at.into_iter().enumerate() {
+        if at.symmetry.len() != sym.len() {
+            return None;
+        }
+        for (&i, col) in sym.iter().zip(at.symmetry) {
+            cols[s][ng + i] = col;
         }
     }
     let blocks = base
@@ -210,8 +232,9 @@ struct Step {
     schur_inverse: DMatrix<f64>,
 }
 
-/// The damped step, or None where the damped system is not positive definite.
-fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<Step> {
+/// The damped step, or None where the damped system is not positive definite. The globals
+/// flagged in `held` do not move (their rows of the reduced system are set aside).
+fn step(lin: &Linearized, ng: usize, lambda: f64, held: &[bool]) -> Option<Step> {
     let damp = |mut n: DMatrix<f64>| {
         let top = (0..n.nrows()).map(|i| n[(i, i)]).fold(0.0, f64::max).max(1e-300);
         for i in 0..n.nrows() {
@@ -241,6 +264,12 @@ fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<Step> {
         rhs -= &n_gs * &y;
         parts.push(Some((x, y)));
     }
+    for (i, _) in held.iter().enumerate().filter(|(_, h)| **h) {
+        schur.row_mut(i).fill(0.0);
+        schur.column_mut(i).fill(0.0);
+        schur[(i, i)] = 1.0;
+        rhs[i] = 0.0;
+    }
     let (dg, schur_inv) = if ng > 0 {
         let chol = damp(schur).cholesky()?;
         (chol.solve(&rhs), chol.inverse())
@@ -255,6 +284,14 @@ fn step(lin: &Linearized, ng: usize, lambda: f64) -> Option<Step> {
         })
         .collect();
     Some(Step { dg, db, schur_inverse: schur_inv })
+}
+
+/// The globals at a bound of [`BlockProblem::project_global`]'s box that the step `dg` would
+/// take out of it.
+fn held_at_bounds(p: &dyn BlockProblem, g: &[f64], dg: &DVector<f64>) -> Vec<bool> {
+    let mut g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
+    p.project_global(&mut g_t);
+    g_t.iter().zip(g).zip(dg.iter()).map(|((t, g), d)| *d != 0.0 && t == g).collect()
 }
 
 /// Broyden's update of each block's Jacobian to the secant of the trial step `(dg, db)` with
@@ -315,7 +352,16 @@ pub fn solve(
             if cancel.load(Ordering::Relaxed) {
                 return Err(LmError::Cancelled);
             }
-            let Some(Step { dg, db, schur_inverse }) = step(&lin, ng, lambda) else {
+            // A bounded global at its bound whose step points out of the box is held there
+            // and the step solved again for the rest (an active set): projected alone, the
+            // others would move as if it had moved.
+            let free = step(&lin, ng, lambda, &[]);
+            let held = free.as_ref().map(|s| held_at_bounds(p, &g, &s.dg));
+            let chosen = match held.filter(|h| h.contains(&true)) {
+                Some(held) => step(&lin, ng, lambda, &held),
+                None => free,
+            };
+            let Some(Step { dg, db, schur_inverse }) = chosen else {
                 lambda *= 10.0;
                 if lambda > 1e16 {
                     break 'outer;
@@ -371,7 +417,7 @@ pub fn solve(
     if !opts.covariance {
         cov = None;
     } else if let Some(lin) = linearize(p, &g, &b, res, cost)
-        && let Some(step) = step(&lin, ng, 0.0)
+        && let Some(step) = step(&lin, ng, 0.0, &[])
     {
         cov = Some(step.schur_inverse);
     }
@@ -546,6 +592,51 @@ mod tests {
         // Secant steps come between fresh Jacobians, not instead of the last one.
         assert!(secant.iterations > 0 && secant.cost < 1e-10, "{}", secant.cost);
         assert!(secant_evals < fresh_evals, "{secant_evals} evaluations against {fresh_evals}");
+    }
+
+    /// `(x - 2, 10 (y - x))` with `x <= 1`: the box's minimum is `(1, 1)`.
+    struct Bounded;
+    impl BlockProblem for Bounded {
+        fn global_count(&self) -> usize {
+            2
+        }
+        fn block_count(&self) -> usize {
+            1
+        }
+        fn block_size(&self) -> usize {
+            0
+        }
+        fn residuals(&self, _: usize, g: &[f64], _: &[f64]) -> Option<Vec<f64>> {
+            Some(vec![g[0] - 2.0, 10.0 * (g[1] - g[0])])
+        }
+        fn global_step(&self, _: usize, _: f64) -> f64 {
+            1e-7
+        }
+        fn local_step(&self, _: usize, _: f64) -> f64 {
+            0.0
+        }
+        fn project_global(&self, g: &mut [f64]) {
+            g[0] = g[0].min(1.0);
+        }
+    }
+
+    #[test]
+    fn a_global_at_its_bound_is_held_and_the_rest_solved_for() {
+        // From x at its bound, the free step goes to (2, 2), projected (1, 2): no better than
+        // the start. Held at x = 1, the step solves y alone and lands on the minimum.
+        let opts = LmOptions { max_iterations: 1, lambda0: 1e-9, ..LmOptions::default() };
+        let sol = solve(
+            &Bounded,
+            vec![1.0, 0.0],
+            vec![vec![]],
+            &opts,
+            &mut |_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        assert_eq!(sol.global[0], 1.0);
+        assert!((sol.global[1] - 1.0).abs() < 1e-6, "{:?}", sol.global);
+        assert!((sol.cost - 1.0).abs() < 1e-9, "{}", sol.cost);
     }
 
     #[test]

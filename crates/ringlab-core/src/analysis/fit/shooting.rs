@@ -5,7 +5,7 @@
 //! frame times; once the run ends (flat), the frames show its final pose, still, as a
 //! recording does and as `synth` writes (frames at or after `floor(t_end / dt)`).
 
-use super::lm::BlockProblem;
+use super::lm::{AtPoint, BlockProblem};
 use super::params::ModelSpec;
 use crate::physics::model::{STATE_LEN, ix};
 use crate::physics::{Model, RunOptions, Sample, Simulation, SlipStart, StateVec};
@@ -90,6 +90,27 @@ pub fn predict_samples(
     predict_samples_counted(model, run, dt, y0, range).0
 }
 
+/// How a prediction's run picks its steps (`physics::run`'s `steps.rs`).
+#[derive(Clone, Copy, Debug)]
+pub enum StepChoice<'e> {
+    Adaptive,
+    /// Adaptive, keeping where each step ends ([`Prediction::step_ends`]).
+    Keep,
+    /// To the ends a run of nearby parameters kept.
+    Follow(&'e Arc<[f64]>),
+}
+
+/// A prediction with the work it took.
+#[derive(Clone, Debug)]
+pub struct Prediction {
+    /// None when the run cannot start or crawls past its budget.
+    pub samples: Option<Vec<Sample>>,
+    /// Integration steps taken.
+    pub steps: u64,
+    /// Where each step ended, with [`StepChoice::Keep`].
+    pub step_ends: Vec<f64>,
+}
+
 /// As [`predict_samples`], with the integration steps it took.
 pub fn predict_samples_counted(
     model: &Model,
@@ -98,6 +119,20 @@ pub fn predict_samples_counted(
     y0: &StateVec,
     range: Range<usize>,
 ) -> (Option<Vec<Sample>>, u64) {
+    let p = predict_with_steps(model, run, dt, y0, range, StepChoice::Adaptive);
+    (p.samples, p.steps)
+}
+
+/// As [`predict_samples`], its steps chosen as `choice` says.
+pub fn predict_with_steps(
+    model: &Model,
+    run: &RunOptions,
+    dt: f64,
+    y0: &StateVec,
+    range: Range<usize>,
+    choice: StepChoice,
+) -> Prediction {
+    let failed = |steps| Prediction { samples: None, steps, step_ends: Vec::new() };
     let t0 = range.start as f64 * dt;
     let n = range.len();
     let opts = RunOptions {
@@ -108,8 +143,13 @@ pub fn predict_samples_counted(
     };
     let t_end = opts.t_end;
     let Ok(mut sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else {
-        return (None, 0);
+        return failed(0);
     };
+    match choice {
+        StepChoice::Adaptive => {}
+        StepChoice::Keep => sim.keep_steps(),
+        StepChoice::Follow(ends) => sim.follow_steps(ends.clone()),
+    }
     let mut grid = Vec::with_capacity(n);
     let mut sink = |s: &Sample| {
         if grid.len() < n {
@@ -126,7 +166,7 @@ pub fn predict_samples_counted(
         t = (t + 16.0 * dt).min(t_end);
         sim.advance_limited(t, budget + 1, &mut sink);
         if sim.stats().steps > budget {
-            return (None, sim.stats().steps);
+            return failed(sim.stats().steps);
         }
     }
     let summary = sim.finish();
@@ -139,7 +179,7 @@ pub fn predict_samples_counted(
     };
     grid.truncate(moving.min(grid.len()));
     grid.resize(n, summary.final_sample);
-    (Some(grid), summary.stats.steps)
+    Prediction { samples: Some(grid), steps: summary.stats.steps, step_ends: summary.step_ends }
 }
 
 impl Shooting<'_> {
@@ -185,8 +225,19 @@ impl Shooting<'_> {
     /// the first segment holds; the others start as the cone says (a free start state that
     /// could hold would make every slide optional).
     pub fn samples(&self, model: &Model, s: usize, y0: &StateVec) -> Option<Vec<Sample>> {
+        self.samples_with_steps(model, s, y0, StepChoice::Adaptive).samples
+    }
+
+    /// As [`Self::samples`], the run's steps chosen as `choice` says.
+    pub fn samples_with_steps(
+        &self,
+        model: &Model,
+        s: usize,
+        y0: &StateVec,
+        choice: StepChoice,
+    ) -> Prediction {
         if self.budget.as_ref().is_some_and(|b| b.spent()) {
-            return None;
+            return Prediction { samples: None, steps: 0, step_ends: Vec::new() };
         }
         let later;
         let model = if s > 0 && model.effects.slip_start != SlipStart::Cone {
@@ -197,12 +248,11 @@ impl Shooting<'_> {
         } else {
             model
         };
-        let (samples, steps) =
-            predict_samples_counted(model, &self.run, self.dt, y0, self.segments[s].clone());
+        let p = predict_with_steps(model, &self.run, self.dt, y0, self.segments[s].clone(), choice);
         if let Some(b) = &self.budget {
-            b.charge(steps);
+            b.charge(p.steps);
         }
-        samples
+        p
     }
 
     /// Predicted marks of segment `s` from its start state.
@@ -214,8 +264,13 @@ impl Shooting<'_> {
         y0: &StateVec,
     ) -> Option<PredictedMarks> {
         let samples = self.samples(model, s, y0)?;
+        Some(self.marks_of(model, camera, &samples))
+    }
+
+    /// The marks of `samples` through `camera`.
+    fn marks_of(&self, model: &Model, camera: &Camera, samples: &[Sample]) -> PredictedMarks {
         let geometry = self.geometry_of(model);
-        Some(samples.iter().map(|x| self.project(&geometry, camera, x)).collect())
+        samples.iter().map(|x| self.project(&geometry, camera, x)).collect()
     }
 
     /// Model minus observed for every tracked mark of segment `s` (x, then y).
@@ -235,13 +290,24 @@ impl Shooting<'_> {
     /// Residuals of segment `s`, or None where the parameters are invalid or the state
     /// is not finite.
     pub fn segment_residuals(&self, s: usize, global: &[f64], state: &[f64]) -> Option<Vec<f64>> {
+        self.segment_residuals_with_steps(s, global, state, StepChoice::Adaptive)
+    }
+
+    /// As [`Self::segment_residuals`], the run's steps chosen as `choice` says.
+    pub fn segment_residuals_with_steps(
+        &self,
+        s: usize,
+        global: &[f64],
+        state: &[f64],
+        choice: StepChoice,
+    ) -> Option<Vec<f64>> {
         let (model, camera) = self.spec.build(global)?;
         let y0: StateVec = state.try_into().ok()?;
         if y0.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let pred = self.predict(&model, &camera, s, &y0)?;
-        Some(self.residuals_of(s, &pred))
+        let samples = self.samples_with_steps(&model, s, &y0, choice).samples?;
+        Some(self.residuals_of(s, &self.marks_of(&model, &camera, &samples)))
     }
 
     /// Number of tracked mark coordinates in segment `s`.
@@ -281,8 +347,18 @@ impl BlockProblem for Shooting<'_> {
     fn symmetric_locals(&self) -> &[usize] {
         &SYMMETRIC
     }
-    fn symmetry_columns(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<Vec<f64>>> {
-        self.symmetry_columns_of(s, global, local)
+    fn at_point(&self, s: usize, global: &[f64], local: &[f64]) -> Option<AtPoint> {
+        self.at_point_of(s, global, local)
+    }
+    fn column_residuals(
+        &self,
+        s: usize,
+        global: &[f64],
+        local: &[f64],
+        at: &AtPoint,
+    ) -> Option<Vec<f64>> {
+        let choice = at.step_ends.as_ref().map_or(StepChoice::Adaptive, StepChoice::Follow);
+        self.segment_residuals_with_steps(s, global, local, choice)
     }
 }
 
@@ -294,20 +370,17 @@ impl BlockProblem for Shooting<'_> {
 const SYMMETRIC: [usize; 4] = [ix::PHI, ix::PSI, ix::X, ix::Y];
 
 impl Shooting<'_> {
-    /// Forward-difference columns for [`SYMMETRIC`] from one run: the samples moved, turned
+    /// One run at the point, its step ends kept for the other columns, and the
+    /// forward-difference columns for [`SYMMETRIC`] from it: the samples moved, turned
     /// or spun, and projected again.
-    fn symmetry_columns_of(
-        &self,
-        s: usize,
-        global: &[f64],
-        local: &[f64],
-    ) -> Option<Vec<Vec<f64>>> {
+    fn at_point_of(&self, s: usize, global: &[f64], local: &[f64]) -> Option<AtPoint> {
         let (model, camera) = self.spec.build(global)?;
         let y0: StateVec = local.try_into().ok()?;
         if y0.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let samples = self.samples(&model, s, &y0)?;
+        let run = self.samples_with_steps(&model, s, &y0, StepChoice::Keep);
+        let samples = run.samples?;
         let geometry = self.geometry_of(&model);
         let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks {
             samples.iter().map(|x| self.project(&geometry, &camera, &f(x))).collect()
@@ -334,7 +407,8 @@ impl Shooting<'_> {
             });
             self.residuals_of(s, &moved).iter().zip(&base).map(|(a, b)| (a - b) / h).collect()
         });
-        Some(cols.to_vec())
+        let step_ends = Some(Arc::from(run.step_ends));
+        Some(AtPoint { symmetry: cols.to_vec(), step_ends })
     }
 }
 

@@ -247,6 +247,39 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
     }
 
+    /// Takes one step to exactly `t_target`, accepted where its error ratio is at most
+    /// `max_err`; false leaves the stepper as it was (the caller steps adaptively instead).
+    /// Steps of a run replayed at nearby parameters make the difference of the two runs smooth
+    /// in the parameters: adaptive steps would add the tolerance's jitter to a
+    /// finite-difference derivative.
+    pub fn step_to(&mut self, t_target: f64, max_err: f64) -> bool {
+        let h = t_target - self.t;
+        if !(h > 0.0) || h > self.h_max * (1.0 + 1e-12) {
+            return false;
+        }
+        let f0 = self.k[12];
+        self.k[0] = f0;
+        let (y_new, err) = self.attempt(h);
+        if !(err <= max_err) {
+            self.k[12] = f0;
+            return false;
+        }
+        let factor = if err == 0.0 {
+            MAX_FACTOR
+        } else {
+            (SAFETY * err.powf(ERROR_EXPONENT)).min(MAX_FACTOR)
+        };
+        self.t_prev = self.t;
+        self.y_prev = self.y;
+        self.t = t_target;
+        self.y = y_new;
+        self.h_next = h * factor;
+        self.dense_ready = false;
+        self.stepped = true;
+        self.stats.steps += 1;
+        true
+    }
+
     /// One trial step of size `h` from `(t, y)`; fills `k[1..=12]` and returns the new state
     /// and the scaled error norm (non-finite when the stages are).
     #[inline]

@@ -3,6 +3,7 @@
 //! between rolling and sliding (`switch.rs`).
 
 mod options;
+mod steps;
 mod switch;
 
 use super::contact::Contact;
@@ -12,6 +13,8 @@ use super::slip::{
     SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick_margin,
 };
 use nalgebra::Vector3;
+use std::sync::Arc;
+use steps::{FOLLOW_MAX_ERR, Steps};
 use switch::Switch;
 
 pub use super::sample::Sample;
@@ -63,6 +66,8 @@ pub struct RunSummary {
     pub stats: Stats,
     /// The integrator's error, when the run ended on one.
     pub error: Option<IntegratorError>,
+    /// Where each step ended, in the order taken, when kept ([`Simulation::keep_steps`]).
+    pub step_ends: Vec<f64>,
 }
 
 /// Tracks one sign condition along a stream of times and collects the intervals where it
@@ -150,6 +155,7 @@ pub struct Simulation {
     /// Time of the last contact switch and how many happened there in a row.
     switches_here: (f64, u32),
     stick_residual: f64,
+    steps: Steps,
 }
 
 /// Time tolerance of event location, relative to `max(1, |t|)`.
@@ -253,6 +259,7 @@ impl Simulation {
             stats_done: Stats::default(),
             switches_here: (t0, 0),
             stick_residual: 0.0,
+            steps: Steps::Adaptive,
             opts,
         };
         sim.margins = sim.validity_margins(&s0);
@@ -301,6 +308,18 @@ impl Simulation {
     /// The last sample of a finished run (or the start, before).
     pub fn final_sample(&self) -> &Sample {
         &self.final_sample
+    }
+
+    /// Keeps where each step ends, for a run of nearby parameters to follow
+    /// ([`RunSummary::step_ends`], [`Self::follow_steps`]).
+    pub fn keep_steps(&mut self) {
+        self.steps = Steps::Keep(Vec::new());
+    }
+
+    /// Steps to the ends another run kept (`steps.rs`), adaptively where one of them does not
+    /// hold and beyond the last.
+    pub fn follow_steps(&mut self, ends: Arc<[f64]>) {
+        self.steps = Steps::Follow { ends, next: 0 };
     }
 
     fn validity_margins(&self, s: &Sample) -> (f64, f64) {
@@ -359,6 +378,7 @@ impl Simulation {
             stick_residual: self.stick_residual,
             stats: add_stats(self.stats_done, self.contact.stats()),
             error: self.error,
+            step_ends: self.steps.into_kept(),
         }
     }
 
@@ -378,7 +398,9 @@ impl Simulation {
 
     fn one_step(&mut self, sink: &mut impl FnMut(&Sample)) {
         let (t_old, y_old) = (self.contact.t(), *self.contact.state());
-        if let Err(e) = self.contact.step() {
+        let followed =
+            self.steps.target(t_old).is_some_and(|end| self.contact.step_to(end, FOLLOW_MAX_ERR));
+        if !followed && let Err(e) = self.contact.step() {
             let reason = match e {
                 IntegratorError::NonFinite { .. } => EndReason::NonFinite,
                 _ => EndReason::StepSizeTooSmall,
@@ -390,6 +412,7 @@ impl Simulation {
             return;
         }
         let (t_new, y_new) = (self.contact.t(), *self.contact.state());
+        self.steps.taken(t_new);
 
         // Turning point: theta' = w1 changes sign (at most one per step at these tolerances).
         let (w_old, w_new) = (y_old[ix::W1], y_new[ix::W1]);
