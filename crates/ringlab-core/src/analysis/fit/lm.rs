@@ -5,7 +5,10 @@
 //! normal matrix is then an arrowhead, solved through the Schur complement on `g`:
 //! `(N_gg - sum N_gs N_ss^-1 N_sg) dg = a_g - sum N_gs N_ss^-1 a_s`, then each `db_s`.
 //! Damping: Marquardt's `lambda diag(N)`. Jacobians by forward differences, in parallel
-//! over blocks and columns (rayon). A problem without blocks is plain LM on `g`.
+//! over blocks and columns (rayon), after one evaluation per block at the point
+//! ([`BlockProblem::at_point`]) whose work the columns may share (a model run's steps). A
+//! problem without blocks is plain LM on `g`. Bounds ([`BlockProblem::project_global`]): a
+//! global at its bound whose step points out is held there, the step solved for the rest.
 //!
 //! Secant steps ([`LmOptions::secant_steps`]): a forward-difference Jacobian costs one
 //! evaluation per column (14 whole runs for a diagnosis candidate), a step one. Between fresh

@@ -1,6 +1,7 @@
 //! A run of the model: integration with end conditions, turning points, validity intervals
 //! and samples on a fixed time grid from the dense output; with the slip effect, the switches
-//! between rolling and sliding (`switch.rs`).
+//! between rolling and sliding (`switch.rs`); a run's step ends kept for another to follow
+//! (`steps.rs`).
 
 mod options;
 mod steps;
