@@ -190,6 +190,10 @@ impl DiagnoseJson {
                 params.insert("camera_tilt_deg".into(), finite(v));
                 params.insert("camera_tilt_deg_sigma".into(), finite(s));
             }
+            if let Some([along, across]) = f.slip_start_mm_s() {
+                params.insert("slip_start_along_mm_s".into(), finite(along));
+                params.insert("slip_start_across_mm_s".into(), finite(across));
+            }
             if let Some((v, s)) = f.rim_share {
                 params.insert("reynolds_rim_share".into(), finite(v));
                 params.insert("reynolds_rim_share_sigma".into(), finite(s));

@@ -247,6 +247,7 @@ impl CaseFile {
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
             slip_start: if e.slip_start_held { SlipStart::HeldRolling } else { SlipStart::Cone },
+            slip_start_velocity: [0.0, 0.0],
         };
         let model = model.with_effects(effects).map_err(|e| format!("[effects] {e}"))?;
         let i = &self.initial;
@@ -369,6 +370,7 @@ impl Case {
             translational_drag: e.translational_drag / k.length,
             slip_mu: e.slip_mu,
             slip_start: e.slip_start,
+            slip_start_velocity: e.slip_start_velocity.map(|v| v * k.length / k.time),
         };
         let model = Model::new(body, to.g(), self.model.c_drag, to.nu_air())
             .and_then(|m| m.with_effects(effects))

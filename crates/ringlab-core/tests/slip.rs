@@ -192,6 +192,56 @@ fn reversed_spin_gives_the_mirrored_sliding_run() {
     }
 }
 
+/// The same push begun from a rolling state (the disk at rest) with a slide in progress
+/// (`Effects::slip_start_velocity`, along the heading): the start a fit gives a recording that
+/// begins mid-slide. It is the textbook slide above, along the heading's direction.
+#[test]
+fn a_run_begun_with_a_slide_in_progress_is_the_disk_pushed_without_spin() {
+    let (r, h, g, mu, v0, phi) = (1.0, 1e-6, 1.0, 0.3, 1.0, 0.6);
+    let body = Body::new(Shape::Disk, r, h, r).unwrap();
+    let model = Model::new(body, g, [0.0; 3], 1.0)
+        .unwrap()
+        .with_effects(Effects {
+            slip_mu: Some(mu),
+            slip_start_velocity: [v0, 0.0],
+            ..Default::default()
+        })
+        .expect("valid");
+    let mut y0 = [0.0; 8];
+    (y0[0], y0[1]) = (phi, (0.5 * h / r).atan());
+    let opts = RunOptions { t_end: 1.5, sample_dt: Some(0.01), ..Default::default() };
+    let sim = Simulation::from_state(model.clone(), 0.0, y0, opts.clone()).expect("starts");
+    assert!(sim.sliding_state().is_some(), "a slide in progress begins sliding");
+    let mut p = Vec::new();
+    let s = sim.run(&mut |x| p.push(*x));
+    let t_star = v0 / (3.0 * mu * g);
+    assert_eq!(s.sliding.len(), 1, "{:?}", s.sliding);
+    assert_eq!(s.sliding[0].start, 0.0);
+    assert!((s.sliding[0].end - t_star).abs() < 1e-6, "sticks at {}", s.sliding[0].end);
+    for x in &p {
+        let v = if x.t < t_star { v0 - mu * g * x.t } else { 2.0 * v0 / 3.0 };
+        assert!((x.speed_c - v).abs() < 1e-6, "v at t = {}: {} vs {v}", x.t, x.speed_c);
+        // Along the heading (cos phi, sin phi): no distance across it.
+        let across = -x.y[6] * phi.sin() + x.y[7] * phi.cos();
+        assert!(across.abs() < 1e-6, "off the heading by {across} at t = {}", x.t);
+    }
+    assert!(p.last().unwrap().y[6] > 0.5, "it went along +heading");
+    // Without the slide in progress the disk at rest stays at rest, rolling.
+    let still = Model {
+        effects: Effects { slip_start_velocity: [0.0, 0.0], ..model.effects },
+        ..model.clone()
+    };
+    let sim = Simulation::from_state(still, 0.0, y0, opts.clone()).expect("starts");
+    assert!(sim.sliding_state().is_none());
+    let s = sim.run(&mut |_| {});
+    assert!(s.sliding.is_empty(), "{:?}", s.sliding);
+    // A start held rolling ignores it (held means the contact rolls at the first frame).
+    let held =
+        Model { effects: Effects { slip_start: SlipStart::HeldRolling, ..model.effects }, ..model };
+    let sim = Simulation::from_state(held, 0.0, y0, opts).expect("starts");
+    assert!(sim.sliding_state().is_none());
+}
+
 #[test]
 fn a_disk_launched_sliding_without_spin_rolls_off_at_two_thirds_of_its_speed() {
     // Textbook: a thin disk pushed along without spin slides with friction mu g against the

@@ -83,11 +83,13 @@ impl EffectKind {
 
     /// The free numbers a fit of the effect adds: its strength, and for `camera_perspective`
     /// the camera's tilt as well, for `reynolds_drag` the rim's share of its speed
-    /// (`ReynoldsDrag::rim_share`).
+    /// (`ReynoldsDrag::rim_share`), for `slip` the slip velocity at the fit's start (two
+    /// components, `Effects::slip_start_velocity`).
     pub fn free_count(self) -> usize {
         match self {
             EffectKind::None => 0,
             EffectKind::CameraPerspective | EffectKind::ReynoldsDrag => 2,
+            EffectKind::Slip => 3,
             _ => 1,
         }
     }

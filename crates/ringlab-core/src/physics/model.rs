@@ -78,6 +78,11 @@ pub struct Effects {
     /// How the sliding contact begins a run whose start state needs more friction than
     /// `mu F_N` (slip effect only).
     pub slip_start: SlipStart,
+    /// The contact's slip velocity where a run begins at the model's start, along the heading
+    /// `(cos phi, sin phi)` and across it (slip effect with [`SlipStart::Cone`] only; zero: no
+    /// slide in progress). A recording starts where the camera does, and a ring may already
+    /// be sliding there; runs continued from a later state of a run begin without it.
+    pub slip_start_velocity: [f64; 2],
 }
 
 /// How a run with the slip effect begins where rolling at its start state would need more
@@ -135,6 +140,8 @@ impl Effects {
         if let Some(mu) = self.slip_mu {
             check_non_negative("slip mu", mu)?;
         }
+        check_finite("slip start velocity (along)", self.slip_start_velocity[0])?;
+        check_finite("slip start velocity (across)", self.slip_start_velocity[1])?;
         Ok(())
     }
 }

@@ -73,11 +73,13 @@ pub fn blind_start(kind: EffectKind, mu_max: f64) -> Option<f64> {
 }
 
 /// The effect's free numbers at `strength` (the camera's tilt starts level, the Reynolds
-/// number from the centre's speed, as the paper has it).
+/// number from the centre's speed, as the paper has it, slip with no slide in progress at the
+/// start).
 pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
     match kind {
         EffectKind::None => Vec::new(),
         EffectKind::CameraPerspective | EffectKind::ReynoldsDrag => vec![strength, 0.0],
+        EffectKind::Slip => vec![strength, 0.0, 0.0],
         _ => vec![strength],
     }
 }

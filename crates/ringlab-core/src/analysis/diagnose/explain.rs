@@ -147,8 +147,16 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
             } else {
                 ""
             };
+            let in_progress = match d.after.slip_start_mm_s() {
+                Some(v) if v != [0.0, 0.0] => format!(
+                    " Where the fit begins ({:.3} s) its contact already slips at {:.2} mm/s (a number of the fit: a slide can begin before the first frame fitted).",
+                    d.after.start_s,
+                    v[0].hypot(v[1])
+                ),
+                _ => String::new(),
+            };
             format!(
-                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides}{held} The paper names slippage at cuspy turning points as a cause of its drift."
+                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides}{held}{in_progress} The paper names slippage at cuspy turning points as a cause of its drift."
             )
         }
         EffectKind::TranslationalDrag => format!(

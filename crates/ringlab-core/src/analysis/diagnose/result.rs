@@ -46,6 +46,15 @@ pub struct ModelFit {
 }
 
 impl ModelFit {
+    /// The fitted model's slip velocity at its first frame (mm/s, along the heading and across
+    /// it), where it slides from there (`Effects::slip_start_velocity`).
+    pub fn slip_start_mm_s(&self) -> Option<[f64; 2]> {
+        let e = &self.model.effects;
+        let k = self.units.length_mm / self.units.time_s;
+        (e.slip_mu.is_some() && e.slip_start == crate::physics::SlipStart::Cone)
+            .then(|| e.slip_start_velocity.map(|v| v * k))
+    }
+
     /// Its effects in the order fitted, joined by " + " (`none` for the baseline).
     pub fn effects_label(&self) -> String {
         let names: Vec<&str> =

@@ -112,6 +112,7 @@ pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a>
         match kind {
             EffectKind::CameraPerspective => free.push(Free::CameraTilt),
             EffectKind::ReynoldsDrag => free.push(Free::ReynoldsRimShare),
+            EffectKind::Slip => free.extend([0, 1].map(Free::SlipStartVelocity)),
             _ => {}
         }
         strength_ranges.push((kind, search_range(kind, mu_max)));

@@ -297,6 +297,21 @@ fn held_at_bounds(p: &dyn BlockProblem, g: &[f64], dg: &DVector<f64>) -> Vec<boo
     g_t.iter().zip(g).zip(dg.iter()).map(|((t, g), d)| *d != 0.0 && t == g).collect()
 }
 
+/// The globals that [`BlockProblem::project_global`]'s box pins where they are (a box of one
+/// point): the residuals do not depend on them.
+fn pinned(p: &dyn BlockProblem, g: &[f64]) -> Vec<bool> {
+    (0..g.len())
+        .map(|i| {
+            [1.0, -1.0].iter().all(|d| {
+                let mut moved = g.to_vec();
+                moved[i] += d;
+                p.project_global(&mut moved);
+                moved[i] == g[i]
+            })
+        })
+        .collect()
+}
+
 /// Broyden's update of each block's Jacobian to the secant of the trial step `(dg, db)` with
 /// residuals `r_t`: `J += (dr - J dx) dx^T / |dx|^2`, block `s` seeing `dx = (dg, db_s)`.
 fn secant_update(lin: &mut Linearized, dg: &DVector<f64>, db: &[DVector<f64>], r_t: &[Vec<f64>]) {
@@ -420,7 +435,7 @@ pub fn solve(
     if !opts.covariance {
         cov = None;
     } else if let Some(lin) = linearize(p, &g, &b, res, cost)
-        && let Some(step) = step(&lin, ng, 0.0, &[])
+        && let Some(step) = step(&lin, ng, 0.0, &pinned(p, &g))
     {
         cov = Some(step.schur_inverse);
     }
@@ -640,6 +655,50 @@ mod tests {
         assert_eq!(sol.global[0], 1.0);
         assert!((sol.global[1] - 1.0).abs() < 1e-6, "{:?}", sol.global);
         assert!((sol.cost - 1.0).abs() < 1e-9, "{}", sol.cost);
+    }
+
+    /// `(x - 2, x)` with `y` pinned at 0 by its box and seen by no residual.
+    struct Pinned;
+    impl BlockProblem for Pinned {
+        fn global_count(&self) -> usize {
+            2
+        }
+        fn block_count(&self) -> usize {
+            1
+        }
+        fn block_size(&self) -> usize {
+            0
+        }
+        fn residuals(&self, _: usize, g: &[f64], _: &[f64]) -> Option<Vec<f64>> {
+            Some(vec![g[0] - 2.0, g[0]])
+        }
+        fn global_step(&self, _: usize, _: f64) -> f64 {
+            1e-7
+        }
+        fn local_step(&self, _: usize, _: f64) -> f64 {
+            0.0
+        }
+        fn project_global(&self, g: &mut [f64]) {
+            g[1] = 0.0;
+        }
+    }
+
+    #[test]
+    fn a_pinned_global_leaves_the_undamped_covariance_of_the_rest() {
+        let opts = LmOptions { rel_tol: 1e-12, ..LmOptions::default() };
+        let sol = solve(
+            &Pinned,
+            vec![0.0, 0.0],
+            vec![vec![]],
+            &opts,
+            &mut |_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        assert!((sol.global[0] - 1.0).abs() < 1e-6 && sol.global[1] == 0.0, "{:?}", sol.global);
+        // (J^T J)^-1 = 1/2 for x, undamped: the damped fallback would be 1 / (2 (1 + lambda)).
+        let cov = sol.global_cov_unscaled.expect("a covariance");
+        assert!((cov[(0, 0)] - 0.5).abs() < 1e-9, "{}", cov[(0, 0)]);
     }
 
     #[test]

@@ -8,8 +8,8 @@
 //! `1000 mm / D`, 0 orthographic) with the tilt a number of its own, every other effect the
 //! physics.
 
-use crate::physics::Model;
 use crate::physics::effects::{self, EffectKind};
+use crate::physics::{Model, SlipStart};
 use crate::recording::Camera;
 
 /// One free global parameter.
@@ -26,6 +26,10 @@ pub enum Free {
     /// The rim's share of the speed that sets `reynolds_drag`'s Reynolds number (0 to 1,
     /// `ReynoldsDrag::rim_share`), beside its exponent.
     ReynoldsRimShare,
+    /// The slip velocity at the fit's start (model units), 0 along the heading and 1 across
+    /// it, beside `slip`'s `mu` (`Effects::slip_start_velocity`): a slide in progress where
+    /// the recording begins.
+    SlipStartVelocity(usize),
 }
 
 /// The largest camera tilt a fit may try (degrees): beyond, a lab would not call the camera
@@ -41,6 +45,8 @@ impl Free {
             Free::Body(_) => "h".into(),
             Free::CameraTilt => "camera tilt (deg)".into(),
             Free::ReynoldsRimShare => "reynolds_drag rim share".into(),
+            Free::SlipStartVelocity(0) => "slip velocity at the start, along".into(),
+            Free::SlipStartVelocity(_) => "slip velocity at the start, across".into(),
         }
     }
 }
@@ -97,7 +103,10 @@ impl ModelSpec {
             .zip(values)
             .map(|(f, v)| match f {
                 Free::Drag(_) | Free::Body(_) => v.max(1e-12).ln(),
-                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => *v,
+                Free::Effect(_)
+                | Free::CameraTilt
+                | Free::ReynoldsRimShare
+                | Free::SlipStartVelocity(_) => *v,
             })
             .collect()
     }
@@ -109,7 +118,10 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => *x,
+                Free::Effect(_)
+                | Free::CameraTilt
+                | Free::ReynoldsRimShare
+                | Free::SlipStartVelocity(_) => *x,
             })
             .collect()
     }
@@ -121,7 +133,10 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_) | Free::CameraTilt | Free::ReynoldsRimShare => 1.0,
+                Free::Effect(_)
+                | Free::CameraTilt
+                | Free::ReynoldsRimShare
+                | Free::SlipStartVelocity(_) => 1.0,
             })
             .collect()
     }
@@ -141,6 +156,7 @@ impl ModelSpec {
                 Free::ReynoldsRimShare => {
                     self.base.effects.reynolds_drag.map_or(0.0, |r| r.rim_share)
                 }
+                Free::SlipStartVelocity(i) => self.base.effects.slip_start_velocity[*i],
                 Free::Body(0) => self.base.body.r,
                 Free::Body(_) => self.base.body.h,
             })
@@ -216,6 +232,7 @@ impl ModelSpec {
                         r.re_ref = self.re_start.blended(v).max(1e-9);
                     }
                 }
+                Free::SlipStartVelocity(i) => model.effects.slip_start_velocity[*i] = v,
                 Free::Body(_) => {}
             }
         }
@@ -233,6 +250,7 @@ impl ModelSpec {
             Free::Drag(_) | Free::Body(_) => 1e-6,
             Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
             Free::CameraTilt => 1e-5,
+            Free::SlipStartVelocity(_) => 1e-6,
             // Into the box from either bound.
             Free::ReynoldsRimShare => {
                 if x > 0.5 {
@@ -248,11 +266,62 @@ impl ModelSpec {
     /// of the Reynolds speed, 0 to 1): a least-squares step that would leave it stops at the
     /// bound, the rest of the step kept. The paper's law sits at a bound (share 0), so without
     /// this every step towards a law the share cannot make would be refused whole.
+    ///
+    /// A start held rolling has no slide in progress: there the slip velocity at the start is
+    /// held at zero, a box of one point (its runs ignore it, and the least squares would move
+    /// a number the residuals do not see by their rounding divided by the damping).
     pub fn project(&self, internal: &mut [f64]) {
+        let held = self.base.effects.slip_start == SlipStart::HeldRolling;
         for (f, x) in self.free.iter().zip(internal.iter_mut()) {
-            if *f == Free::ReynoldsRimShare {
-                *x = x.clamp(0.0, 1.0);
+            match f {
+                Free::ReynoldsRimShare => *x = x.clamp(0.0, 1.0),
+                Free::SlipStartVelocity(_) if held => *x = 0.0,
+                _ => {}
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::{Effects, paper};
+
+    fn slip_spec(start: SlipStart) -> ModelSpec {
+        let effects = Effects { slip_start: start, ..Default::default() };
+        let base = paper::ring_model(paper::C_RING).with_effects(effects).expect("valid");
+        let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
+        free.extend([Free::Effect(EffectKind::Slip)]);
+        free.extend([0, 1].map(Free::SlipStartVelocity));
+        ModelSpec {
+            base,
+            camera: Camera::centred(3.0, 1280.0, 1024.0),
+            free,
+            re_start: StartReynolds { centre: 1.0, rim: 1.0 },
+            strength_ranges: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_slip_velocity_at_the_start_is_a_number_of_the_model() {
+        let spec = slip_spec(SlipStart::Cone);
+        let g = spec.to_internal(&[0.03, 0.06, 0.08, 0.3, 0.02, -0.01]);
+        let (model, _) = spec.build(&g).expect("valid");
+        assert_eq!(model.effects.slip_mu, Some(0.3));
+        assert_eq!(model.effects.slip_start_velocity, [0.02, -0.01]);
+    }
+
+    #[test]
+    fn a_start_held_rolling_pins_the_slip_velocity_at_zero() {
+        let values = [0.03, 0.06, 0.08, 0.3, 0.02, -0.01];
+        let mut cone = slip_spec(SlipStart::Cone).to_internal(&values);
+        let before = cone.clone();
+        slip_spec(SlipStart::Cone).project(&mut cone);
+        assert_eq!(cone, before, "a cone start leaves it free");
+        let held_spec = slip_spec(SlipStart::HeldRolling);
+        let mut held = held_spec.to_internal(&values);
+        held_spec.project(&mut held);
+        assert_eq!(held[4..], [0.0, 0.0]);
+        assert_eq!(held[..4], before[..4], "the rest as it was");
     }
 }

@@ -221,9 +221,10 @@ impl Shooting<'_> {
     }
 
     /// The model's samples over segment `s` from `y0`, charged to the budget (None once it is
-    /// spent). A start held rolling (`SlipStart::HeldRolling`) is the recording's start: only
-    /// the first segment holds; the others start as the cone says (a free start state that
-    /// could hold would make every slide optional).
+    /// spent). A start held rolling (`SlipStart::HeldRolling`) or sliding
+    /// (`Effects::slip_start_velocity`) is the recording's start: only the first segment has
+    /// it; the others start as the cone says (a free start state that could hold or slide
+    /// would make every slide optional).
     pub fn samples(&self, model: &Model, s: usize, y0: &StateVec) -> Option<Vec<Sample>> {
         self.samples_with_steps(model, s, y0, StepChoice::Adaptive).samples
     }
@@ -240,9 +241,13 @@ impl Shooting<'_> {
             return Prediction { samples: None, steps: 0, step_ends: Vec::new() };
         }
         let later;
-        let model = if s > 0 && model.effects.slip_start != SlipStart::Cone {
+        let model = if s > 0
+            && (model.effects.slip_start != SlipStart::Cone
+                || model.effects.slip_start_velocity != [0.0, 0.0])
+        {
             let mut m = model.clone();
             m.effects.slip_start = SlipStart::Cone;
+            m.effects.slip_start_velocity = [0.0, 0.0];
             later = m;
             &later
         } else {

@@ -11,7 +11,7 @@ use super::contact::Contact;
 use super::integrator::{IntegratorError, Stats, find_root};
 use super::model::{Initial, Model, SlipStart, StateVec, ix};
 use super::slip::{
-    SlideVec, SlidingModel, onset_direction, sliding_state, slip_velocity, stick_margin,
+    SlideVec, SlidingModel, VX, VY, onset_direction, sliding_state, slip_velocity, stick_margin,
 };
 use nalgebra::Vector3;
 use std::sync::Arc;
@@ -159,6 +159,17 @@ pub struct Simulation {
     steps: Steps,
 }
 
+/// The sliding state at a run's start from rolling state `y0`: its slip velocity is the
+/// model's `slip_start_velocity`, turned from the heading frame to the table's.
+fn slide_start(model: &Model, y0: &StateVec) -> SlideVec {
+    let mut ys = sliding_state(model, y0);
+    let [along, across] = model.effects.slip_start_velocity;
+    let (sp, cp) = y0[ix::PHI].sin_cos();
+    ys[VX] += along * cp - across * sp;
+    ys[VY] += along * sp + across * cp;
+    ys
+}
+
 /// Time tolerance of event location, relative to `max(1, |t|)`.
 const EVENT_T_TOL: f64 = 1e-13;
 impl Simulation {
@@ -185,9 +196,17 @@ impl Simulation {
             m < 0.0 || m.is_nan()
         });
         let held = beyond_cone && model.effects.slip_start == SlipStart::HeldRolling;
+        let slide_in_progress = model.effects.slip_start == SlipStart::Cone
+            && model.effects.slip_start_velocity != [0.0, 0.0];
         let contact = if let (true, false, Some(mu)) = (beyond_cone, held, slip_mu) {
             let s_ref = onset_direction(&model, &y0);
-            let ys = sliding_state(&model, &y0);
+            let ys = slide_start(&model, &y0);
+            Contact::sliding(SlidingModel::new(model, mu, s_ref), t0, ys, opts.tol, opts.h_max)
+        } else if let (true, Some(mu)) = (slide_in_progress, slip_mu) {
+            // Within the cone the slide's own direction is the reference (a small slip then
+            // dies out at once, as zero slip would not begin).
+            let ys = slide_start(&model, &y0);
+            let s_ref = slip_velocity(&model, &ys);
             Contact::sliding(SlidingModel::new(model, mu, s_ref), t0, ys, opts.tol, opts.h_max)
         } else {
             Contact::rolling(model, t0, y0, opts.tol, opts.h_max)
