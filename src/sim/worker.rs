@@ -203,7 +203,12 @@ impl Running {
         let dt = opts.sample_dt.unwrap_or(case.dt);
         let sim = match start {
             Start::Initial => Simulation::new(case.model, &case.initial, opts),
-            Start::From { t, y } => Simulation::from_state(case.model, t, y, opts),
+            Start::From { t, y } => {
+                // A slide in progress belongs to the run's start, not to a state it reached.
+                let mut model = case.model;
+                model.effects.slip_start_velocity = [0.0, 0.0];
+                Simulation::from_state(model, t, y, opts)
+            }
         }
         .map_err(|e| e.to_string())?;
         let first = *sim.final_sample();
