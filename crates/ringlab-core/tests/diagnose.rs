@@ -12,6 +12,7 @@ use ringlab_core::analysis::diagnose::{
     MIN_EXPLAINED, diagnose, explained_share,
 };
 use ringlab_core::physics::EffectKind;
+use ringlab_core::recording::Recording;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 
@@ -38,15 +39,21 @@ fn assert_named(d: &Diagnosis, expected: &[EffectKind]) {
 fn run(kind: EffectKind) -> (Diagnosis, f64, Vec<String>) {
     let (rec, truth) = concealed_recording(kind, SEED).expect("a concealed recording");
     assert!(rec.header.extra.is_empty(), "the header must not tell");
+    let (d, messages) = diagnose_with_messages(&rec);
+    (d, truth.strength, messages)
+}
+
+/// The diagnosis of `rec` and the progress messages it sent.
+fn diagnose_with_messages(rec: &Recording) -> (Diagnosis, Vec<String>) {
     let messages = Mutex::new(Vec::new());
     let d = diagnose(
-        &rec,
+        rec,
         &DiagnoseOptions::default(),
         &|p: &DiagnoseProgress| messages.lock().unwrap().push(p.message.clone()),
         &AtomicBool::new(false),
     )
     .expect("a diagnosis");
-    (d, truth.strength, messages.into_inner().unwrap())
+    (d, messages.into_inner().unwrap())
 }
 
 /// What every diagnosis must hold, whatever it names. The noise is estimated from each mark's
@@ -388,19 +395,11 @@ fn a_slide_in_progress_where_the_fit_begins_is_found() {
 fn slip_is_fitted_through_the_camera_the_segments_see_before_the_pairs() {
     let rec = family_recording(Family::Pair(EffectKind::Slip, EffectKind::CameraPerspective), 12)
         .expect("a concealed pair");
-    let messages = Mutex::new(Vec::new());
-    let d = diagnose(
-        &rec,
-        &DiagnoseOptions::default(),
-        &|p: &DiagnoseProgress| messages.lock().unwrap().push(p.message.clone()),
-        &AtomicBool::new(false),
-    )
-    .expect("a diagnosis");
+    let (d, messages) = diagnose_with_messages(&rec);
     let slip = d.candidates.iter().find(|c| c.effect == EffectKind::Slip).expect("ranked");
     assert!(slip.delta_score > 0.0, "slip alone must fit worse here: {}", slip.delta_score);
     assert_named(&d, &[EffectKind::CameraPerspective, EffectKind::Slip]);
     assert!(d.after.rms_px < 1.05 * d.noise_px, "left {} px", d.after.rms_px);
-    let messages = messages.into_inner().unwrap();
     assert!(messages.iter().any(|m| m.contains("slip through the camera the segments see")));
     let walked: Vec<&String> = messages.iter().filter(|m| m.contains(" px)")).collect();
     assert!(walked.is_empty(), "pairs walked from the baseline's path: {walked:?}");
