@@ -1,6 +1,7 @@
 //! Fits made again from where a first walk ended: a side valley left by walking once more.
 
 use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, with_slip_start};
+use super::in_order::in_order_until;
 use super::options::DiagnoseError;
 use super::rules::{CONSISTENT_RATIO, settled};
 use super::seen_camera::FoundCamera;
@@ -261,56 +262,73 @@ pub(super) fn slip_through_camera(
     again: &Again,
     ms: &Shooting,
     found: &FoundCamera,
+    noise_px: f64,
     cancel: &AtomicBool,
 ) -> Result<Option<WholeFit>, DiagnoseError> {
-    let fits = effects_through_camera(again, ms, found, &[EffectKind::Slip], cancel)?;
+    let fits = effects_through_camera(again, ms, found, &[EffectKind::Slip], noise_px, cancel)?;
     Ok(fits.into_iter().next())
 }
 
-/// Each effect of `kinds` beside the camera effects of `found`, found through that camera:
+/// Each effect of `asked` beside the camera effects of `found`, found through that camera:
 /// the multiple-shooting fit and the baseline's path are made again through the camera found,
 /// each effect is fitted on that path as a candidate is, and then the camera is set free
-/// beside it for the last stage; `EffectKind::None` among `kinds` gives the camera alone
+/// beside it for the last stage; `EffectKind::None` among them gives the camera alone
 /// fitted that way. A pair walked from the baseline's path starts from segments fitted
 /// through the wrong camera and can stay in the camera's valley with the physical effect at
 /// zero (a pinhole 640 mm away beside translational drag: the pinhole alone fits as 805 mm and
 /// 1.71 px, the pair with the drag stays there; through the 805 mm camera the drag alone
 /// reaches 0.70 px). The other camera effect too: a pinhole 346 mm away found through a lens
 /// it does not know leaves 1.77 px, and the pair walked from the baseline's path 5.4 px.
-/// A fit made before through the same camera (`again` keeps them) is not made again.
+///
+/// `asked` go most promising first, and those after the first that settles the recording
+/// ([`settled`] against `noise_px`) are not fitted: nothing can then be told better. A fit
+/// made before through the same camera (`again` keeps them) is not made again.
 pub(super) fn effects_through_camera(
     again: &Again,
     ms: &Shooting,
     found: &FoundCamera,
-    kinds: &[EffectKind],
+    asked: &[EffectKind],
+    noise_px: f64,
     cancel: &AtomicBool,
 ) -> Result<Vec<WholeFit>, DiagnoseError> {
     let cameras = &found.numbers;
     // Every effect asked for that the camera does not already hold (the other camera effect
     // too: a real camera is a pinhole with a lens).
-    let mut kinds: Vec<EffectKind> =
-        kinds.iter().copied().filter(|k| !cameras.iter().any(|(c, _)| c == k)).collect();
-    kinds.dedup();
+    let mut kinds: Vec<EffectKind> = Vec::new();
+    for &k in asked {
+        if !cameras.iter().any(|(c, _)| *c == k) && !kinds.contains(&k) {
+            kinds.push(k);
+        }
+    }
     if cameras.is_empty() || kinds.is_empty() {
         return Ok(Vec::new());
+    }
+    let settles = |w: &WholeFit| settled(w.rms_px(), noise_px);
+    if let Some(i) =
+        kinds.iter().position(|&k| again.made(found, k).flatten().is_some_and(|w| settles(&w)))
+    {
+        kinds.truncate(i + 1);
     }
     let missing: Vec<EffectKind> =
         kinds.iter().copied().filter(|&k| again.made(found, k).is_none()).collect();
     if !missing.is_empty() {
-        let fits = fit_through_camera(again, ms, found, &missing, cancel)?;
+        let fits = fit_through_camera(again, ms, found, &missing, &settles, cancel)?;
         for (k, fit) in missing.into_iter().zip(fits) {
             again.keep(found, k, fit);
         }
     }
-    Ok(kinds.into_iter().filter_map(|k| again.made(found, k).flatten()).collect())
+    // Up to the first not made: the fits after the first that settled were not.
+    Ok(kinds.into_iter().map_while(|k| again.made(found, k)).flatten().collect())
 }
 
-/// [`effects_through_camera`] made for `kinds`: each one's fit, None where it failed.
+/// [`effects_through_camera`] made for `kinds`, in order until one is `done`
+/// ([`in_order_until`]): each one's fit, None where it failed.
 fn fit_through_camera(
     again: &Again,
     ms: &Shooting,
     found: &FoundCamera,
     kinds: &[EffectKind],
+    done: &(dyn Fn(&WholeFit) -> bool + Sync),
     cancel: &AtomicBool,
 ) -> Result<Vec<Option<WholeFit>>, DiagnoseError> {
     let clock = Instant::now();
@@ -334,13 +352,20 @@ fn fit_through_camera(
     };
     // Each pair's time: the fits through the camera that all share, and its own.
     let shared_seconds = clock.elapsed().as_secs_f64();
-    let one = |kind: EffectKind| -> Result<WholeFit, LmError> {
+    let one = |&kind: &EffectKind, stop: &AtomicBool| -> Result<WholeFit, LmError> {
         let own = Instant::now();
         let alone = if kind == EffectKind::None {
             baseline.clone()
         } else {
-            fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {}, cancel)?
+            fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {}, stop)?
         };
+        // Slip that left the baseline's valley even through this camera (its path stopped
+        // beyond the ceiling) slides where the recording rolls, or the other way; the camera's
+        // numbers move no slide, and its runs cost most (a lens beside slip at 257 px: 8.5 s
+        // more to reach 219 px).
+        if kind == EffectKind::Slip && alone.stopped_at.is_some() {
+            return Err(LmError::BadStart);
+        }
         // The pair's numbers: the drag and body of the effect's fit, the camera's, the effect's.
         let shared = alone.internal.len() - kind.free_count();
         let mut global = alone.internal[..shared].to_vec();
@@ -354,19 +379,16 @@ fn fit_through_camera(
         let start = alone.model.effects.slip_start;
         let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &order));
         sh.segments = vec![alone.span.clone()];
-        let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, cancel)?;
+        let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, stop)?;
         pair.seconds = shared_seconds + own.elapsed().as_secs_f64();
         Ok(pair)
     };
-    use rayon::prelude::*;
-    let fits: Vec<Result<WholeFit, LmError>> = kinds.par_iter().map(|&k| one(k)).collect();
-    fits.into_iter()
-        .map(|f| match f {
-            Ok(p) => Ok(Some(p)),
-            Err(LmError::Cancelled) => Err(DiagnoseError::Cancelled),
-            Err(_) => Ok(None),
-        })
-        .collect()
+    let is_done = |r: &Result<WholeFit, LmError>| r.as_ref().is_ok_and(done);
+    let fits = in_order_until(kinds, &one, &is_done, cancel);
+    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(DiagnoseError::Cancelled);
+    }
+    Ok(fits.into_iter().map(Result::ok).collect())
 }
 
 /// What a fit made again from the recording needs (a multiple-shooting fit through another

@@ -67,6 +67,7 @@ pub mod candidates;
 pub mod concealed;
 pub mod departure;
 pub mod explain;
+mod in_order;
 pub mod noise_correlation;
 mod options;
 mod progress;

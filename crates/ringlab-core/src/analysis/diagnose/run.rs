@@ -16,7 +16,7 @@ use super::result::{
 };
 use super::rules::{bic, settled};
 use super::seen_camera::seen_camera;
-use super::select::forward_selection;
+use super::select::{forward_selection, through_seen_kinds};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
@@ -363,9 +363,9 @@ fn any_settled(fits: &Fits, noise_px: f64) -> bool {
     fits.iter().any(|(_, r)| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px)))
 }
 
-/// Where the segments see a camera, every effect through it (the camera alone too), as the
-/// forward selection will fit them first (slip only where it improved on the baseline alone):
-/// whether one settles the recording. Then the physical candidates need no second walk: on a
+/// Where the segments see a camera, every effect through it (the camera alone too), in the
+/// order the forward selection will ask for them ([`through_seen_kinds`]), until one settles
+/// the recording: whether one does. Then the physical candidates need no second walk: on a
 /// pinhole's recordings those walks, a quarter of the time, were of effects the camera
 /// imitated. The fits are kept for the forward selection ([`Again`]).
 fn settled_through_seen(
@@ -379,17 +379,10 @@ fn settled_through_seen(
 ) -> Result<bool, DiagnoseError> {
     let Some(seen) = again.seen else { return Ok(false) };
     progress.fitting_again("every effect through the camera the segments see");
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, noise.dependence());
-    let improved = |w: &WholeFit| score(w) < score(baseline);
-    let kinds: Vec<EffectKind> = [EffectKind::None]
-        .into_iter()
-        .chain(fits.iter().filter_map(|(k, r)| {
-            let slip_idle = *k == EffectKind::Slip && !r.as_ref().is_ok_and(improved);
-            (!slip_idle).then_some(*k)
-        }))
-        .collect();
-    let through = effects_through_camera(again, ms, seen, &kinds, cancel)?;
+    let ranked = rank(baseline, fits, noise.dependence());
+    let kinds: Vec<EffectKind> =
+        [EffectKind::None].into_iter().chain(through_seen_kinds(&ranked)).collect();
+    let through = effects_through_camera(again, ms, seen, &kinds, noise.px, cancel)?;
     Ok(through.iter().any(|w| settled(w.rms_px(), noise.px)))
 }
 

@@ -4,6 +4,7 @@ use super::again::{
     Again, best_pair, effects_through_camera, slip_through_camera, walk_best_pair_again,
 };
 use super::candidates::{fit_pair, refit_with, refit_without};
+use super::in_order::in_order_until;
 use super::options::DiagnoseError;
 use super::progress::Reporter;
 use super::result::{Candidate, Finding, PairCandidate, Partial};
@@ -13,6 +14,7 @@ use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::physics::effects::EffectKind;
+use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 
 /// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
@@ -45,33 +47,15 @@ pub(super) fn forward_selection(
     // 0.499 px through the camera seen, against 0.495 px of noise).
     let pairs_fitted = chosen.rms_px() > CONSISTENT_RATIO * noise_px;
     let mut pair_fits: Vec<PairFit> = Vec::new();
-    let mut walked = None;
+    let mut walked = Vec::new();
     let through_seen = again.seen.filter(|_| pairs_fitted);
     if let Some(seen) = through_seen {
         progress.pair_again("every effect through the camera the segments see", false);
-        let kinds: Vec<EffectKind> = [camera_free(chosen.kind)]
-            .into_iter()
-            .chain(others_through_camera(ranked, true))
-            .collect();
-        for p in effects_through_camera(again, ms, seen, &kinds, cancel)? {
+        let kinds: Vec<EffectKind> =
+            [camera_free(chosen.kind)].into_iter().chain(through_seen_kinds(ranked)).collect();
+        for p in effects_through_camera(again, ms, seen, &kinds, noise_px, cancel)? {
             let first = p.also.first().map_or(p.kind, |x| x.0);
             pair_fits.push((first, p.kind, Ok(p)));
-        }
-    }
-    // Slip through the camera the segments see where it was not among those (it did not
-    // improve alone), before the pairs walked from the baseline's path: a sliding ring filmed
-    // through a pinhole is found this way in the end anyway ([`camera_lead_without_slip`]), and
-    // found first it spares the pairs (slip + pinhole seed 12: 40.8 s of pairs for it).
-    let slip_through_seen = through_seen.filter(|_| {
-        !settles(&pair_fits, noise_px)
-            && ranked.iter().any(|(c, _)| c.effect == EffectKind::Slip)
-            && !others_through_camera(ranked, true).contains(&EffectKind::Slip)
-    });
-    if let Some(seen) = slip_through_seen {
-        progress.pair_again("slip through the camera the segments see", false);
-        if let Some(p) = slip_through_camera(again, ms, seen, cancel)? {
-            let first = p.also.first().map_or(p.kind, |x| x.0);
-            pair_fits.push((first, EffectKind::Slip, Ok(p)));
         }
     }
     if pairs_fitted && !settles(&pair_fits, noise_px) {
@@ -93,7 +77,8 @@ pub(super) fn forward_selection(
         let held = chosen.kinds();
         if seen.numbers.iter().any(|(k, _)| !held.contains(k)) {
             progress.pair_again("the chosen model through the camera the segments see", false);
-            for p in effects_through_camera(again, ms, seen, &[camera_free(chosen.kind)], cancel)? {
+            let kinds = [camera_free(chosen.kind)];
+            for p in effects_through_camera(again, ms, seen, &kinds, noise_px, cancel)? {
                 let first = p.also.first().map_or(p.kind, |x| x.0);
                 pair_fits.push((first, p.kind, Ok(p)));
             }
@@ -102,11 +87,11 @@ pub(super) fn forward_selection(
     let found = |lead: &WholeFit| again.seen.cloned().unwrap_or_else(|| FoundCamera::of(lead));
     if pairs_fitted
         && !settles(&pair_fits, noise_px)
-        && slip_through_seen.is_none()
+        && through_seen.is_none()
         && let Some(lead) = camera_lead_without_slip(ranked, &pair_fits, again.seen.is_some())
         && let Some(p) = {
             progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
-            slip_through_camera(again, ms, &found(lead), cancel)?
+            slip_through_camera(again, ms, &found(lead), noise_px, cancel)?
         }
     {
         pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
@@ -131,7 +116,7 @@ pub(super) fn forward_selection(
             if reaches_noise(&pair_fits, noise_px) {
                 break;
             }
-            for p in effects_through_camera(again, ms, &camera, &kinds, cancel)? {
+            for p in effects_through_camera(again, ms, &camera, &kinds, noise_px, cancel)? {
                 let first = p.also.first().map_or(p.kind, |x| x.0);
                 pair_fits.push((first, p.kind, Ok(p)));
             }
@@ -141,7 +126,7 @@ pub(super) fn forward_selection(
         progress.pair_again("the best pair fitted again", false);
     }
     // Not twice: the pairs stage may have walked the best pair already.
-    if best_pair(&mut pair_fits, &pair_score).is_none_or(|p| Some(p.kinds()) != walked) {
+    if best_pair(&mut pair_fits, &pair_score).is_none_or(|p| !walked.contains(&p.kinds())) {
         walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, noise_px, cancel)?;
     }
     slip_pair_through_its_camera(
@@ -256,6 +241,21 @@ fn camera_free(kind: EffectKind) -> EffectKind {
     if kind.is_camera() { EffectKind::None } else { kind }
 }
 
+/// The effects fitted through the camera the segments see, most promising first: by their
+/// score alone, but slip, where it did not improve alone, second. Through the wrong camera it
+/// cannot improve ([`slip_through_camera`]), so its score says nothing; its runs take longest,
+/// so begun early they run beside the others' (the pairs, where nothing settles, wait for the
+/// last of them), and where it settles the recording the others are not fitted.
+pub(super) fn through_seen_kinds(ranked: &[(Candidate, Option<&WholeFit>)]) -> Vec<EffectKind> {
+    let mut kinds = others_through_camera(ranked, true);
+    if ranked.iter().any(|(c, _)| c.effect == EffectKind::Slip)
+        && !kinds.contains(&EffectKind::Slip)
+    {
+        kinds.insert(kinds.len().min(1), EffectKind::Slip);
+    }
+    kinds
+}
+
 /// The candidates fitted through a camera found: every effect but slip, which has its own step
 /// ([`slip_through_camera`]) where it did not improve alone; where it did, and the segments see
 /// a camera (`camera_seen`), it is one of the others.
@@ -289,7 +289,7 @@ fn slip_pair_through_its_camera(
         return Ok(());
     }
     progress.pair_again("slip fitted again through the best pair's camera", true);
-    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), cancel)?
+    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), noise_px, cancel)?
         && again.cost < p.cost
     {
         let seconds = p.seconds + again.seconds;
@@ -431,8 +431,9 @@ const LEADS: usize = 3;
 /// the [`PAIRED`] best single candidates, and each of the [`LEADS`] best with every other
 /// candidate (slip only where it improved on the baseline alone: its runs cost most, and a
 /// slide the recording shows moves the misfit alone by far); the second and third leads' pairs
-/// only where none of the others reaches the noise. Fitted [`PAIR_BATCH`] at a time, most
-/// promising first, until one settles the recording ([`settles`]).
+/// only where none of the others reaches the noise. Fitted most promising first, on every
+/// thread, until one settles the recording ([`in_order_until`]). Returns the pairs fitted and
+/// those walked again.
 fn pairs_stage(
     again: &Again,
     ms: &Shooting,
@@ -441,7 +442,7 @@ fn pairs_stage(
     noise_px: f64,
     progress: &Reporter,
     cancel: &AtomicBool,
-) -> Result<(Vec<PairFit>, Option<Vec<EffectKind>>), DiagnoseError> {
+) -> Result<(Vec<PairFit>, Vec<Vec<EffectKind>>), DiagnoseError> {
     let fitted: Vec<(&Candidate, &WholeFit)> = ranked
         .iter()
         .filter(|(c, _)| c.effect != EffectKind::None)
@@ -482,46 +483,56 @@ fn pairs_stage(
     }
     let best_single_px = fitted.iter().map(|(_, w)| w.rms_px()).fold(f64::INFINITY, f64::min);
     let mut out: Vec<PairFit> = Vec::new();
-    let mut walked = None;
-    'rounds: for (n, round) in rounds.iter().enumerate() {
+    let walked: Mutex<Vec<Vec<EffectKind>>> = Mutex::new(Vec::new());
+    for (n, round) in rounds.iter().enumerate() {
         if reaches_noise(&out, noise_px) || round.is_empty() {
             break;
         }
         progress.pairs_planned(n, round.len());
-        for batch in round.chunks(PAIR_BATCH) {
-            use rayon::prelude::*;
-            out.par_extend(batch.par_iter().map(|&(i, j)| {
-                let (a, b) = (fitted[i].1, fitted[j].1);
-                let fit = fit_pair(ms, levels, a, b, &mut |_, _| {}, cancel);
-                let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
-                progress.pair_fitted(a.kind, b.kind, rms);
-                (a.kind, b.kind, fit)
-            }));
-            if out.iter().any(|(_, _, r)| matches!(r, Err(LmError::Cancelled))) {
-                return Err(DiagnoseError::Cancelled);
-            }
-            // The first pair to explain most of what the best effect alone leaves is walked
-            // again now, not after every pair is fitted: a right pair's first walk often
-            // stops short of the noise (Reynolds drag beside pivot friction: 0.79 px, walked
-            // again 0.50 px against 0.49 px of noise), and walked it settles the recording.
-            if walked.is_none()
-                && let Some(p) = best_pair(&mut out, &|w: &WholeFit| w.cost)
+        let one = |&(i, j): &(usize, usize), stop: &AtomicBool| -> PairFit {
+            let (a, b) = (fitted[i].1, fitted[j].1);
+            let mut fit = fit_pair(ms, levels, a, b, &mut |_, _| {}, stop);
+            // A pair that explains most of what the best effect alone leaves is walked again
+            // at once: a right pair's first walk often stops short of the noise (Reynolds
+            // drag beside pivot friction: 0.79 px, walked again 0.50 px against 0.49 px of
+            // noise), and walked it settles the recording, so the pairs after it are spared.
+            if let Ok(p) = &mut fit
                 && explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
             {
-                walked = Some(p.kinds());
-                walk_best_pair_again(again, ms, levels, &mut out, &|w| w.cost, noise_px, cancel)?;
+                let kinds = p.kinds();
+                let mut one = [(a.kind, b.kind, Ok(p.clone()))];
+                match walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px, stop)
+                {
+                    Ok(()) => {
+                        if let [(_, _, Ok(w))] = one {
+                            *p = w;
+                        }
+                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(kinds);
+                    }
+                    Err(_) => fit = Err(LmError::Cancelled),
+                }
             }
-            if settles(&out, noise_px) {
-                break 'rounds;
-            }
+            let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
+            progress.pair_fitted(a.kind, b.kind, rms);
+            (a.kind, b.kind, fit)
+        };
+        let is_settled =
+            |(_, _, r): &PairFit| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px));
+        out.extend(in_order_until(round, &one, &is_settled, cancel));
+        if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(DiagnoseError::Cancelled);
+        }
+        if settles(&out, noise_px) {
+            break;
         }
     }
+    let walked = walked.into_inner().unwrap_or_else(|e| e.into_inner());
     Ok((out, walked))
 }
 
 /// Forward selection from where the best single candidate ended: each other effect (slip
 /// aside, as in the pairs) added at its baseline strength to that candidate's solution and
-/// fitted over the whole run ([`refit_with`]), two at a time until one settles the recording.
+/// fitted over the whole run ([`refit_with`]), on every thread until one settles the recording.
 /// The pairs of [`pairs_stage`] are walked from the baseline's path, and where the best effect
 /// alone sits in a valley of its own they can end worse than it (Reynolds drag beside pivot
 /// friction: the pair at 2.37 px, Reynolds drag alone at 1.42). A fit that beats the same pair
@@ -542,42 +553,28 @@ fn added_to_best(
     };
     let added: Vec<EffectKind> =
         others_through_camera(ranked, false).into_iter().filter(|&k| k != lead.kind).collect();
-    for batch in added.chunks(PAIR_BATCH) {
-        let fits: Vec<(EffectKind, Result<WholeFit, LmError>)> = {
-            use rayon::prelude::*;
-            batch
-                .par_iter()
-                .map(|&k| {
-                    let zero = k.baseline_strength().unwrap_or(0.0);
-                    (k, refit_with(ms, lead, k, zero, cancel))
-                })
-                .collect()
-        };
-        for (k, fit) in fits {
-            let fit = match fit {
-                Ok(w) => w,
-                Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
-                Err(_) => continue,
-            };
-            let same =
-                |(a, b, _): &PairFit| (*a, *b) == (lead.kind, k) || (*a, *b) == (k, lead.kind);
-            match pair_fits.iter_mut().find(|p| same(p)) {
-                Some((_, _, r)) if r.as_ref().is_ok_and(|w| w.cost <= fit.cost) => {}
-                Some(p) => *p = (lead.kind, k, Ok(fit)),
-                None => pair_fits.push((lead.kind, k, Ok(fit))),
-            }
-        }
-        if settles(pair_fits, noise_px) {
-            break;
+    let one = |&k: &EffectKind, stop: &AtomicBool| {
+        let zero = k.baseline_strength().unwrap_or(0.0);
+        (k, refit_with(ms, lead, k, zero, stop))
+    };
+    let is_settled = |(_, r): &(EffectKind, Result<WholeFit, LmError>)| {
+        r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px))
+    };
+    let fits = in_order_until(&added, &one, &is_settled, cancel);
+    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(DiagnoseError::Cancelled);
+    }
+    for (k, fit) in fits {
+        let Ok(fit) = fit else { continue };
+        let same = |(a, b, _): &PairFit| (*a, *b) == (lead.kind, k) || (*a, *b) == (k, lead.kind);
+        match pair_fits.iter_mut().find(|p| same(p)) {
+            Some((_, _, r)) if r.as_ref().is_ok_and(|w| w.cost <= fit.cost) => {}
+            Some(p) => *p = (lead.kind, k, Ok(fit)),
+            None => pair_fits.push((lead.kind, k, Ok(fit))),
         }
     }
     Ok(())
 }
-
-/// Pairs fitted at once, in the order of their promise, before [`settles`] is asked whether
-/// to go on. A constant, not the machine's thread count, so that the pairs tried, and so the
-/// answer, do not depend on the machine; each fit runs its own columns in parallel as well.
-const PAIR_BATCH: usize = 2;
 
 /// Whether a pair fitted has settled the recording ([`settled`]): then the pairs still
 /// planned are not fitted (a pinhole beside translational drag reached 0.499 px against
