@@ -406,7 +406,13 @@ fn print_summary(file: &std::path::Path, d: &Diagnosis) {
     if !d.pairs.is_empty() {
         println!("pairs (forward selection; BIC against the baseline):");
         for p in &d.pairs {
-            let name = format!("{} + {}", p.first, p.second);
+            // One effect twice: a camera effect alone, fitted again through the camera the
+            // segments see.
+            let name = if p.first == p.second {
+                format!("{} alone, again", p.first)
+            } else {
+                format!("{} + {}", p.first, p.second)
+            };
             match &p.error {
                 Some(e) => println!("  {name:<36} failed: {e}"),
                 None => println!(
