@@ -218,6 +218,36 @@ fn cancelling_and_bad_input_are_errors() {
 }
 
 #[test]
+fn cancelling_while_the_fits_through_a_camera_run_stops_them() {
+    // The fits through the camera the segments see run as a queue on every thread, each with
+    // its own stop flag; the caller's cancel, set seconds into them (seed 12: they take about
+    // ten), must reach them, not be lost there.
+    use std::sync::atomic::Ordering;
+    let rec = family_recording(Family::Pair(EffectKind::Slip, EffectKind::CameraPerspective), 12)
+        .expect("a concealed pair");
+    let (cancel, reached) = (AtomicBool::new(false), AtomicBool::new(false));
+    let r = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !reached.load(Ordering::SeqCst) && !cancel.load(Ordering::SeqCst) {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            std::thread::sleep(std::time::Duration::from_secs(4));
+            cancel.store(true, Ordering::SeqCst);
+        });
+        let progress = |p: &DiagnoseProgress| {
+            if p.message.contains("every effect through the camera the segments see") {
+                reached.store(true, Ordering::SeqCst);
+            }
+        };
+        let r = diagnose(&rec, &DiagnoseOptions::default(), &progress, &cancel);
+        cancel.store(true, Ordering::SeqCst);
+        r
+    });
+    assert!(reached.load(Ordering::SeqCst), "the fits through the camera were never reached");
+    assert!(matches!(r, Err(DiagnoseError::Cancelled)), "{:?}", r.map(|d| d.finding));
+}
+
+#[test]
 fn a_path_that_fits_worse_than_its_ceiling_stops_there() {
     // `fit_path`'s ceiling (a candidate far worse than the baseline at as many segments ends
     // its path): with a ceiling of zero the path stops after its first stage, and what it
