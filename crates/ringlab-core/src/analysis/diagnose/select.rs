@@ -496,20 +496,19 @@ fn pairs_stage(
             // at once: a right pair's first walk often stops short of the noise (Reynolds
             // drag beside pivot friction: 0.79 px, walked again 0.50 px against 0.49 px of
             // noise), and walked it settles the recording, so the pairs after it are spared.
-            if let Ok(p) = &mut fit
-                && explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
-            {
-                let kinds = p.kinds();
-                let mut one = [(a.kind, b.kind, Ok(p.clone()))];
-                match walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px, stop)
-                {
-                    Ok(()) => {
-                        if let [(_, _, Ok(w))] = one {
-                            *p = w;
-                        }
-                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(kinds);
+            if fit.as_ref().is_ok_and(|p| {
+                explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
+            }) {
+                let mut one = [(a.kind, b.kind, fit)];
+                let walk =
+                    walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px, stop);
+                let [(_, _, walked_fit)] = one;
+                fit = walked_fit;
+                match (walk, &fit) {
+                    (Ok(()), Ok(p)) => {
+                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(p.kinds())
                     }
-                    Err(_) => fit = Err(LmError::Cancelled),
+                    _ => fit = Err(LmError::Cancelled),
                 }
             }
             let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
