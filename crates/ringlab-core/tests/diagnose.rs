@@ -434,7 +434,7 @@ fn a_slide_that_begins_after_the_fit_starts_is_found_from_below() {
 
 /// A short sliding recording (the bench's `single:slip` seed 7: 383 frames, held start, `mu`
 /// 0.260) whose first stage ends unconverged wherever it starts: from the low end of slip's
-/// range it stops at `mu` 0.282 and the path down to one segment is lost (35 px,
+/// range alone it stops at `mu` 0.282 and the path down to one segment is lost (35 px,
 /// `unexplained`); from the middle at 0.272 and a lower cost, and the path reaches the noise.
 #[test]
 fn a_short_slide_goes_on_from_the_start_that_fits_the_segments_best() {

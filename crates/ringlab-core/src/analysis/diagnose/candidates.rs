@@ -62,21 +62,26 @@ pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
 }
 
 /// More starts for an effect the strength scan cannot see, tried beside the scan's pick: slip
-/// at the low end of its realistic range and at its middle. The scan holds the baseline's
-/// segment states, and a segment re-anchored at every start has its slides' drift absorbed, so
-/// it always picks the largest `mu` (no sliding), from where the least squares never find the
-/// slides (six of twenty concealed slip recordings named none). The least squares see a slide
-/// only where the model slides: from below, each slide too many pulls `mu` up towards the
-/// recording's; from above, the slides the model lacks pull on nothing, and the fit can stop
-/// short of them (`single:slip` seed 15, `mu` 0.321: from the middle, 0.39, the first stage
-/// stopped at 0.446, from 0.25 at 0.328 and a third of the cost). The middle stays because the
-/// first stage's few iterations end where they end: on `single:slip` seed 7 (383 frames, `mu`
-/// 0.260) both starts reach 0.27 to 0.28, and only the middle's, at 0.7 times the other's cost,
-/// leads down the path to the noise. The first stage goes on from the start that ends lowest.
-pub fn blind_starts(kind: EffectKind, mu_max: f64) -> Vec<f64> {
+/// at the middle of its realistic range, and where the run begins held rolling also at its low
+/// end. The scan holds the baseline's segment states, and a segment re-anchored at every start
+/// has its slides' drift absorbed, so it always picks the largest `mu` (no sliding), from where
+/// the least squares never find the slides (six of twenty concealed slip recordings named
+/// none). The least squares see a slide only where the model slides. A run begun sliding
+/// always has its first slide, whatever `mu`; one held rolling slides only where the friction
+/// that rolling needs exceeds `mu F_N`, so from above, the slides the model lacks pull on
+/// nothing and the fit can stop short of them, while from below each slide too many pulls `mu`
+/// up towards the recording's (`single:slip` seed 15, held, `mu` 0.321: from the middle, 0.39,
+/// the first stage stopped at 0.446, from 0.25 at 0.328 and a third of the cost). The middle
+/// stays beside the low end because the first stage's few iterations end where they end: on
+/// `single:slip` seed 7 (held, 383 frames, `mu` 0.260) both reach 0.27 to 0.28, and only the
+/// middle's, at 0.7 times the other's cost, leads down the path to the noise. The first stage
+/// goes on from the start that ends lowest.
+pub fn blind_starts(kind: EffectKind, mu_max: f64, start: SlipStart) -> Vec<f64> {
     let (lo, hi) = kind.realistic_range();
-    match kind {
-        EffectKind::Slip => vec![lo.min(0.9 * mu_max), (lo * hi).sqrt().min(0.9 * mu_max)],
+    let mid = (lo * hi).sqrt().min(0.9 * mu_max);
+    match (kind, start) {
+        (EffectKind::Slip, SlipStart::HeldRolling) => vec![lo.min(0.9 * mu_max), mid],
+        (EffectKind::Slip, _) => vec![mid],
         _ => Vec::new(),
     }
 }
@@ -201,7 +206,8 @@ fn first_stage(
     };
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
     let mut starts = vec![globals[best].clone()];
-    for blind in blind_starts(kind, mu_max).into_iter().filter(|&m| m != trials[best]) {
+    let start = sh.spec.base.effects.slip_start;
+    for blind in blind_starts(kind, mu_max, start).into_iter().filter(|&m| m != trials[best]) {
         starts.push(join.global.iter().copied().chain(effect_start(kind, blind)).collect());
     }
     let mut first: Option<lm::LmSolution> = None;
