@@ -3,7 +3,7 @@
 use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, with_slip_start};
 use super::in_order::in_order_until;
 use super::options::DiagnoseError;
-use super::rules::{CONSISTENT_RATIO, settled};
+use super::rules::{CONSISTENT_RATIO, MIN_EXPLAINED, explained_share, settled};
 use super::seen_camera::FoundCamera;
 use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
@@ -21,7 +21,11 @@ use std::time::Instant;
 /// stage of the path: a pinhole 373 mm away, tilted 6.5 degrees, was left at 5.0 px this way,
 /// even from the true camera, and reached the noise (0.502 px, the distance and tilt to 0.02%)
 /// from segments fitted through the camera of that first pass. The camera does not change the
-/// motion, so the second multiple-shooting fit sees the motion as it was.
+/// motion, so the second multiple-shooting fit sees the motion as it was. Only for a camera
+/// candidate that leads the candidates or explains at least [`MIN_EXPLAINED`] of the baseline's
+/// excess: one that explains less imitates a little of another effect (with physics the
+/// candidates lack, every recording has one), and its pass, a multiple-shooting fit and a
+/// whole path, bought nothing there (docs/diagnosis.md).
 pub(super) fn camera_second_pass(
     rec: &Recording,
     fit_opts: &FitOptions,
@@ -30,9 +34,19 @@ pub(super) fn camera_second_pass(
     noise_px: f64,
     cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
+    let best_cost = fits
+        .iter()
+        .filter_map(|(_, r)| r.as_ref().ok())
+        .map(|w| w.cost)
+        .fold(f64::INFINITY, f64::min);
     for (kind, r) in fits.iter_mut().filter(|(k, _)| k.is_camera()) {
         let Ok(first) = r.as_ref() else { continue };
         if first.cost >= baseline.cost || first.rms_px() <= CONSISTENT_RATIO * noise_px {
+            continue;
+        }
+        if first.cost > best_cost
+            && explained_share(baseline.rms_px(), first.rms_px(), noise_px) < MIN_EXPLAINED
+        {
             continue;
         }
         let clock = Instant::now();
@@ -106,7 +120,9 @@ pub(super) fn best_pair<'a>(
 /// effect's first walk, from the baseline's drag, can end in a side valley too (rolling
 /// friction alone at 1.70 px against 0.49 px of noise; walked again, 0.50 px), and then the
 /// pairs are fitted for nothing and its imitators rank beside it. One still beyond the noise
-/// is then refitted from the baseline's solution across its range ([`scan_from_baseline`]).
+/// that explains less than [`MIN_EXPLAINED`] of the baseline's excess is then refitted from the
+/// baseline's solution across its range ([`scan_from_baseline`]): the valley that scan leaves
+/// is one at nearly zero strength, where the effect explains next to nothing.
 pub(super) fn walk_best_singles_again(
     again: &Again,
     ms: &Shooting,
@@ -129,7 +145,9 @@ pub(super) fn walk_best_singles_again(
     todo.into_par_iter()
         .map(|w| {
             walk_again(again, ms, levels, w, cancel)?;
-            if w.rms_px() > CONSISTENT_RATIO * noise_px {
+            if w.rms_px() > CONSISTENT_RATIO * noise_px
+                && explained_share(baseline.rms_px(), w.rms_px(), noise_px) < MIN_EXPLAINED
+            {
                 scan_from_baseline(ms, baseline, w, cancel)?;
             }
             Ok(())
