@@ -88,7 +88,8 @@ pub(super) fn forward_selection(
     if pairs_fitted
         && !settles(&pair_fits, noise_px)
         && through_seen.is_none()
-        && let Some(lead) = camera_lead_without_slip(ranked, &pair_fits, again.seen.is_some())
+        && let Some(lead) =
+            camera_lead_without_slip(ranked, &pair_fits, baseline, noise_px, again.seen.is_some())
         && let Some(p) = {
             progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
             slip_through_camera(again, ms, &found(lead), noise_px, cancel)?
@@ -298,12 +299,18 @@ fn slip_pair_through_its_camera(
     Ok(())
 }
 
-/// The best single candidate where it is a camera effect and slip was offered but not paired
-/// (it did not improve on the baseline alone): then slip is fitted through that camera
-/// ([`slip_through_camera`]). Only where the pairs were fitted at all.
+/// The best single candidate where it is a camera effect that explains at least
+/// [`MIN_EXPLAINED`] of the baseline's excess, and slip was offered but not paired (it did
+/// not improve on the baseline alone): then slip is fitted through that camera
+/// ([`slip_through_camera`]). Only where the pairs were fitted at all. A camera that explains
+/// less imitates a little of some other effect, and slip through it, the slowest fit there
+/// is, bought nothing there (withheld translational drag: a lens explaining 4% of the excess,
+/// slip through it 40 s and 120.8 px against the baseline's 1.34; docs/diagnosis.md).
 fn camera_lead_without_slip<'a>(
     ranked: &[(Candidate, Option<&'a WholeFit>)],
     pair_fits: &[PairFit],
+    baseline: &WholeFit,
+    noise_px: f64,
     camera_seen: bool,
 ) -> Option<&'a WholeFit> {
     if pair_fits.is_empty() {
@@ -314,6 +321,7 @@ fn camera_lead_without_slip<'a>(
         return None;
     }
     camera_lead(ranked, camera_seen)
+        .filter(|lead| explained_share(baseline.rms_px(), lead.rms_px(), noise_px) >= MIN_EXPLAINED)
 }
 
 /// The best single candidate where it is a camera effect that improved on the baseline and
