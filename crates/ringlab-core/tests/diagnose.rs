@@ -45,10 +45,18 @@ fn run(kind: EffectKind) -> (Diagnosis, f64, Vec<String>) {
 
 /// The diagnosis of `rec` and the progress messages it sent.
 fn diagnose_with_messages(rec: &Recording) -> (Diagnosis, Vec<String>) {
+    diagnose_with_options_and_messages(rec, &DiagnoseOptions::default())
+}
+
+/// The diagnosis of `rec` with `opts` and the progress messages it sent.
+fn diagnose_with_options_and_messages(
+    rec: &Recording,
+    opts: &DiagnoseOptions,
+) -> (Diagnosis, Vec<String>) {
     let messages = Mutex::new(Vec::new());
     let d = diagnose(
         rec,
-        &DiagnoseOptions::default(),
+        opts,
         &|p: &DiagnoseProgress| messages.lock().unwrap().push(p.message.clone()),
         &AtomicBool::new(false),
     )
@@ -409,15 +417,7 @@ fn slip_is_not_fitted_through_a_leading_camera_that_explains_little() {
     let family = Family::Withheld(EffectKind::TranslationalDrag);
     let rec = family_recording(family, 4).expect("a concealed recording");
     let opts = DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
-    let messages = Mutex::new(Vec::new());
-    let d = diagnose(
-        &rec,
-        &opts,
-        &|p: &DiagnoseProgress| messages.lock().unwrap().push(p.message.clone()),
-        &AtomicBool::new(false),
-    )
-    .expect("a diagnosis");
-    let messages = messages.into_inner().unwrap();
+    let (d, messages) = diagnose_with_options_and_messages(&rec, &opts);
     let lead = d.candidates.iter().find(|c| c.effect != EffectKind::None).expect("ranked");
     let slip = d.candidates.iter().find(|c| c.effect == EffectKind::Slip).expect("ranked");
     let share = explained_share(d.before.rms_px, lead.rms_px, d.noise_px);
