@@ -18,9 +18,11 @@ pub fn excess_px(rms_px: f64, noise_px: f64) -> f64 {
 
 /// A model whose excess over the noise is at most this share of the noise has settled the
 /// recording: no other model can do better than the noise lets one tell, so the forward
-/// selection tries no further pairs (a right model ends within 2% of the noise: an excess of
-/// 0.2 noise). Tighter than [`CONSISTENT_RATIO`], which says only that nothing is missing.
-pub const SETTLED_EXCESS: f64 = 0.2;
+/// selection tries no further pairs. 0.3 noise is a misfit of 1.044 times the noise: the
+/// noise estimate is itself off by a few percent (docs/diagnosis.md), so a right model can end
+/// 1.02 to 1.03 times the noise estimated, which a tighter rule never called settled.
+/// Tighter than [`CONSISTENT_RATIO`], which says only that nothing is missing.
+pub const SETTLED_EXCESS: f64 = 0.3;
 
 /// Whether a model with misfit `rms_px` has settled the recording ([`SETTLED_EXCESS`]).
 pub fn settled(rms_px: f64, noise_px: f64) -> bool {
@@ -76,10 +78,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn settled_is_an_excess_of_a_fifth_of_the_noise() {
-        // An excess of 0.2 noise is a misfit of sqrt(1.04) = 1.0198 times the noise.
-        assert!(settled(0.5099, 0.5));
-        assert!(!settled(0.5100, 0.5));
+    fn settled_is_an_excess_of_three_tenths_of_the_noise() {
+        // An excess of 0.3 noise is a misfit of sqrt(1.09) = 1.0440 times the noise.
+        assert!(settled(0.5220, 0.5));
+        assert!(!settled(0.5221, 0.5));
+        // A right model where the noise was estimated 3% low.
+        assert!(settled(0.496, 0.485));
         assert!(settled(0.49, 0.5));
         // Stricter than consistent: 1.1 times the noise is consistent but not settled.
         assert!(0.55 <= CONSISTENT_RATIO * 0.5 && !settled(0.55, 0.5));
