@@ -81,7 +81,8 @@ pub mod signature;
 pub mod whole;
 
 pub use options::{
-    DEFAULT_EVIDENCE, DiagnoseError, DiagnoseOptions, DiagnoseProgress, DiagnoseStage,
+    DEFAULT_EVIDENCE, DIAGNOSE_TOLERANCES, DiagnoseError, DiagnoseOptions, DiagnoseProgress,
+    DiagnoseStage,
 };
 pub use result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
