@@ -4,16 +4,18 @@
 
 mod common;
 
-use ringlab_core::analysis::diagnose::DIAGNOSE_TOLERANCES;
+use ringlab_core::analysis::diagnose::{DIAGNOSE_TOLERANCES, SLIP_TOLERANCES};
 use ringlab_core::analysis::fit::shooting::{
-    PredictedMarks, Shooting, StepChoice, predict_with_steps,
+    PredictedMarks, Prediction, Shooting, StepChoice, predict_with_steps,
 };
 use ringlab_core::analysis::fit::{
     FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, StartReynolds, fit,
 };
 use ringlab_core::config::load_preset;
 use ringlab_core::physics::integrator::Tolerances;
-use ringlab_core::physics::{EffectKind, Model, ReynoldsDrag, RunOptions, Sample, paper};
+use ringlab_core::physics::{
+    EffectKind, Effects, Model, ReynoldsDrag, RunOptions, Sample, StateVec, paper,
+};
 use ringlab_core::recording::marks::{MarkGeometry, MarkOrder};
 use ringlab_core::recording::synth::{SynthOptions, synthesize};
 use ringlab_core::recording::{Camera, Recording, read_recording};
@@ -317,4 +319,38 @@ fn runs_that_follow_a_kept_runs_steps_difference_smoothly() {
         e_followed < 1e-3 * size,
         "followed at the diagnosis's tolerance: {e_followed} of {size}"
     );
+}
+
+#[test]
+fn sliding_runs_difference_smoothly_at_the_slip_tolerances() {
+    // A sliding run switches between rolling and sliding; followed at the diagnosis's rolling
+    // tolerance its difference in mu erred by 1.1e-3 and 2.5e-3 of its size (mu 0.25, 0.35),
+    // so slip's fits run at SLIP_TOLERANCES.
+    let with_mu = |mu: f64| {
+        let m = paper::ring_model(paper::C_RING);
+        let e = Effects { slip_mu: Some(mu), ..m.effects };
+        m.with_effects(e).expect("a valid mu")
+    };
+    let y0 = paper::initial().to_state();
+    let h = 1e-6;
+    fn run(m: &Model, tol: Tolerances, y0: &StateVec, choice: StepChoice) -> Prediction {
+        let opts = RunOptions { tol, ..RunOptions::default() };
+        predict_with_steps(m, &opts, 0.01, y0, 0..1200, choice)
+    }
+    let tight = Tolerances { rtol: 1e-12, atol: 1e-14 };
+    for mu in [0.25, 0.35] {
+        let (m0, m1) = (with_mu(mu), with_mu(mu + h));
+        let t0 = run(&m0, tight, &y0, StepChoice::Adaptive).samples.expect("a run");
+        let t1 = run(&m1, tight, &y0, StepChoice::Adaptive).samples.expect("a run");
+        assert!(t0.iter().filter(|s| s.sliding).count() > 100, "mu {mu}: it must slide");
+        let reference: Vec<f64> = t0.iter().zip(&t1).map(|(a, b)| (b.x_a - a.x_a) / h).collect();
+        let kept = run(&m0, SLIP_TOLERANCES, &y0, StepChoice::Keep);
+        let ends: Arc<[f64]> = Arc::from(kept.step_ends.clone());
+        let base = kept.samples.expect("a run");
+        let followed =
+            run(&m1, SLIP_TOLERANCES, &y0, StepChoice::Follow(&ends)).samples.expect("a run");
+        let (error, size) = derivative_error(&base, &followed, &reference, h);
+        assert!(size > 1.0, "mu {mu}: mu moves the path: {size}");
+        assert!(error < 1e-3 * size, "mu {mu}: followed {error} of {size}");
+    }
 }

@@ -82,7 +82,7 @@ pub mod whole;
 
 pub use options::{
     DEFAULT_EVIDENCE, DIAGNOSE_TOLERANCES, DiagnoseError, DiagnoseOptions, DiagnoseProgress,
-    DiagnoseStage,
+    DiagnoseStage, SLIP_TOLERANCES,
 };
 pub use result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,

@@ -2,10 +2,12 @@
 //! shooting), reached from the multiple-shooting fit by merging its segments pairwise until
 //! one is left (see the module doc of `analysis::diagnose` for why).
 
+use super::options::SLIP_TOLERANCES;
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{PredictedMarks, Shooting, predict_samples};
 use crate::analysis::fit::{Free, ModelSpec};
 use crate::physics::effects::EffectKind;
+use crate::physics::integrator::Tolerances;
 use crate::physics::slip::painleve_mu_limit;
 use crate::physics::{Model, Sample, StateVec};
 use crate::recording::Camera;
@@ -117,7 +119,15 @@ pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a>
         }
         strength_ranges.push((kind, search_range(kind, mu_max)));
     }
-    Shooting { spec: ModelSpec { free, strength_ranges, ..ms.spec.clone() }, ..ms.clone() }
+    let mut run = ms.run.clone();
+    // Slip's runs switch between rolling and sliding: their own tolerances.
+    if kinds.contains(&EffectKind::Slip) {
+        run.tol = Tolerances {
+            rtol: run.tol.rtol.min(SLIP_TOLERANCES.rtol),
+            atol: run.tol.atol.min(SLIP_TOLERANCES.atol),
+        };
+    }
+    Shooting { spec: ModelSpec { free, strength_ranges, ..ms.spec.clone() }, run, ..ms.clone() }
 }
 
 /// Where the diagnosis looks for an effect's strength: from its baseline strength (zero; the
