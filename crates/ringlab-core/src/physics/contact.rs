@@ -7,6 +7,7 @@ use super::integrator::{Dop853, IntegratorError, Stats, Tolerances};
 use super::model::{Model, STATE_LEN, StateVec, ix};
 use super::sample::Sample;
 use super::slip::{SLIDE_LEN, SlideVec, SlidingModel, sliding_energy, slip_velocity};
+use super::trig::sin_cos;
 
 // One per run: the rolling stepper stays inline (the fast path), the sliding one is boxed.
 #[allow(clippy::large_enum_variant)]
@@ -150,7 +151,7 @@ impl Contact {
     /// Kinetic energy at the current time.
     pub fn kinetic_energy(&self) -> f64 {
         let potential = |m: &Model, y: &[f64]| {
-            let (st, ct) = y[ix::THETA].sin_cos();
+            let (st, ct) = sin_cos(y[ix::THETA]);
             m.g * (0.5 * m.body.h * st + m.body.r * ct)
         };
         match self {

@@ -14,6 +14,7 @@ pub mod paper;
 pub mod run;
 pub mod sample;
 pub mod slip;
+pub mod trig;
 pub mod units;
 
 pub use body::{Body, ParamError, Shape};

@@ -7,6 +7,7 @@
 
 use super::body::{Body, ParamError, check_finite, check_non_negative, check_positive};
 use super::integrator::System;
+use super::trig::sin_cos;
 use nalgebra::Vector3;
 
 /// Length of the rolling state vector.
@@ -253,7 +254,7 @@ impl Model {
     /// Angular acceleration and contact force at `(theta, w)`.
     #[inline]
     pub fn dynamics(&self, theta: f64, w: &Vector3<f64>) -> Dynamics {
-        self.dynamics_sc(theta.sin_cos(), w)
+        self.dynamics_sc(sin_cos(theta), w)
     }
 
     /// [`Model::dynamics`] from `(sin(theta), cos(theta))`, which the right-hand side needs too.
@@ -290,7 +291,7 @@ impl Model {
     pub fn energy(&self, y: &StateVec) -> f64 {
         let b = &self.body;
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
-        let (st, ct) = y[ix::THETA].sin_cos();
+        let (st, ct) = sin_cos(y[ix::THETA]);
         let v_c = Vector3::new(w.y * b.r - w.z * b.h / 2.0, -w.x * b.r, w.x * b.h / 2.0);
         let rot =
             0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
@@ -300,7 +301,7 @@ impl Model {
     /// Kinetic energy only.
     pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
         let b = &self.body;
-        let (st, ct) = y[ix::THETA].sin_cos();
+        let (st, ct) = sin_cos(y[ix::THETA]);
         self.energy(y) - self.g * (0.5 * b.h * st + b.r * ct)
     }
 }
@@ -336,9 +337,9 @@ impl System<STATE_LEN> for Model {
     #[inline]
     fn rhs(&self, _t: f64, y: &StateVec, dy: &mut StateVec) {
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
-        let (st, ct) = y[ix::THETA].sin_cos();
+        let (st, ct) = sin_cos(y[ix::THETA]);
         let d = self.dynamics_sc((st, ct), &w);
-        let (sp, cp) = y[ix::PHI].sin_cos();
+        let (sp, cp) = sin_cos(y[ix::PHI]);
         // Euler-angle kinematics (PHYSICS.md inverse): theta' = w1, phi' = w3/cos, psi' = w2 - w3 tan.
         dy[ix::PHI] = w.z / ct;
         dy[ix::THETA] = w.x;
@@ -403,7 +404,7 @@ impl Initial {
 
     /// The state vector: `w = (theta', phi' sin(theta) + psi', phi' cos(theta))`.
     pub fn to_state(&self) -> StateVec {
-        let (st, ct) = self.theta.sin_cos();
+        let (st, ct) = sin_cos(self.theta);
         [
             self.phi,
             self.theta,
@@ -418,7 +419,7 @@ impl Initial {
 
     /// Reads the angles and rates back from a state vector.
     pub fn from_state(y: &StateVec) -> Initial {
-        let (st, ct) = y[ix::THETA].sin_cos();
+        let (st, ct) = sin_cos(y[ix::THETA]);
         Initial {
             phi: y[ix::PHI],
             theta: y[ix::THETA],

@@ -3,6 +3,7 @@
 
 use super::model::{Dynamics, Model, StateVec, ix};
 use super::slip::{SlideVec, SlidingModel, sliding_energy};
+use super::trig::sin_cos;
 use nalgebra::Vector3;
 
 /// The state and everything derived from it at one time.
@@ -62,8 +63,8 @@ impl Sample {
 
     fn with_dynamics(model: &Model, t: f64, y: &StateVec, d: &Dynamics, energy: f64) -> Sample {
         let b = &model.body;
-        let (st, ct) = y[ix::THETA].sin_cos();
-        let (sp, cp) = y[ix::PHI].sin_cos();
+        let (st, ct) = sin_cos(y[ix::THETA]);
+        let (sp, cp) = sin_cos(y[ix::PHI]);
         let a = 0.5 * b.h;
         // Horizontal part of e2 is cos(theta) E2', E2' = (-sin phi, cos phi).
         let (x_a, y_a) = (y[ix::X] - a * ct * sp, y[ix::Y] + a * ct * cp);

@@ -43,6 +43,7 @@
 use super::body::Body;
 use super::integrator::System;
 use super::model::{Dynamics, Model, STATE_LEN, StateVec, ix};
+use super::trig::sin_cos;
 use nalgebra::{Matrix3, Vector3};
 
 /// Length of the sliding state vector.
@@ -158,7 +159,7 @@ impl SlidingModel {
 
     /// Everything the sliding equations give at `y` (see the module doc).
     pub fn dynamics(&self, y: &SlideVec) -> SlideDynamics {
-        self.dynamics_sc(y, y[ix::THETA].sin_cos(), y[ix::PHI].sin_cos())
+        self.dynamics_sc(y, sin_cos(y[ix::THETA]), sin_cos(y[ix::PHI]))
     }
 
     /// [`SlidingModel::dynamics`] with the sines and cosines of theta and phi given (the
@@ -221,8 +222,8 @@ impl SlidingModel {
 
 impl System<SLIDE_LEN> for SlidingModel {
     fn rhs(&self, _t: f64, y: &SlideVec, dy: &mut SlideVec) {
-        let (st, ct) = y[ix::THETA].sin_cos();
-        let d = self.dynamics_sc(y, (st, ct), y[ix::PHI].sin_cos());
+        let (st, ct) = sin_cos(y[ix::THETA]);
+        let d = self.dynamics_sc(y, (st, ct), sin_cos(y[ix::PHI]));
         dy[ix::PHI] = y[ix::W3] / ct;
         dy[ix::THETA] = y[ix::W1];
         dy[ix::PSI] = y[ix::W2] - y[ix::W3] * st / ct;
@@ -257,12 +258,12 @@ fn slip_table(b: &Body, y: &SlideVec, sc_theta: (f64, f64), sc_phi: (f64, f64)) 
 
 /// Slip velocity of P at a sliding state, table components.
 pub fn slip_velocity(model: &Model, y: &SlideVec) -> [f64; 2] {
-    slip_table(&model.body, y, y[ix::THETA].sin_cos(), y[ix::PHI].sin_cos())
+    slip_table(&model.body, y, sin_cos(y[ix::THETA]), sin_cos(y[ix::PHI]))
 }
 
 /// The sliding state of a rolling state (zero slip).
 pub fn sliding_state(model: &Model, y: &StateVec) -> SlideVec {
-    let v = rolling_velocity_table(&model.body, y, y[ix::THETA].sin_cos(), y[ix::PHI].sin_cos());
+    let v = rolling_velocity_table(&model.body, y, sin_cos(y[ix::THETA]), sin_cos(y[ix::PHI]));
     let mut out = [0.0; SLIDE_LEN];
     out[..STATE_LEN].copy_from_slice(y);
     out[VX] = v[0];
@@ -273,7 +274,7 @@ pub fn sliding_state(model: &Model, y: &StateVec) -> SlideVec {
 /// Energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` of a sliding state (m = 1).
 pub fn sliding_energy(model: &Model, y: &SlideVec) -> f64 {
     let b = &model.body;
-    let (st, ct) = y[ix::THETA].sin_cos();
+    let (st, ct) = sin_cos(y[ix::THETA]);
     let a = 0.5 * b.h;
     let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
     let vz = (a * ct - b.r * st) * w.x;
@@ -287,8 +288,8 @@ pub fn sliding_energy(model: &Model, y: &SlideVec) -> f64 {
 /// `1/2 v_s . K^-1 v_s >= 0`. Returns the rolling state and that loss.
 pub fn stick(model: &Model, y: &SlideVec) -> (StateVec, f64) {
     let b = &model.body;
-    let (st, ct) = y[ix::THETA].sin_cos();
-    let (sp, cp) = y[ix::PHI].sin_cos();
+    let (st, ct) = sin_cos(y[ix::THETA]);
+    let (sp, cp) = sin_cos(y[ix::PHI]);
     let v = slip_table(b, y, (st, ct), (sp, cp));
     let (s1, s2) = (v[0] * cp + v[1] * sp, -v[0] * sp + v[1] * cp);
     let v_s = Vector3::new(s1, s2 * ct, -s2 * st);
@@ -313,7 +314,7 @@ pub fn stick(model: &Model, y: &SlideVec) -> (StateVec, f64) {
 /// Horizontal friction that rolling needs at a rolling state, table components, with `F_N`.
 pub fn rolling_friction_demand(model: &Model, y: &StateVec) -> ([f64; 2], f64) {
     let d = model.dynamics(y[ix::THETA], &Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]));
-    let (sp, cp) = y[ix::PHI].sin_cos();
+    let (sp, cp) = sin_cos(y[ix::PHI]);
     ([d.f_1 * cp - d.f_f * sp, d.f_1 * sp + d.f_f * cp], d.f_n)
 }
 
@@ -334,7 +335,7 @@ pub fn onset_direction(model: &Model, y: &StateVec) -> [f64; 2] {
     if n > 0.0 && n.is_finite() {
         [-f[0] / n, -f[1] / n]
     } else {
-        let (sp, cp) = y[ix::PHI].sin_cos();
+        let (sp, cp) = sin_cos(y[ix::PHI]);
         [cp, sp]
     }
 }

@@ -15,6 +15,7 @@
 //! by `cos(theta)`, so mark `k` is at `z_A + r sin(a_k) cos(theta)`.
 
 use super::MARKS;
+use crate::physics::trig::sin_cos;
 use crate::physics::{Body, Shape};
 use std::f64::consts::FRAC_PI_2;
 
@@ -83,15 +84,36 @@ impl MarkGeometry {
         self.order.sign() * k as f64 * FRAC_PI_2 - psi
     }
 
+    /// `(sin a_k, cos a_k)` from those of `psi`: `a_k` is `psi` turned by quarter turns, so
+    /// one sine and cosine serve the four marks (the projection runs for every sample of
+    /// every fit).
+    #[inline]
+    fn sin_cos_of(&self, k: usize, (sp, cp): (f64, f64)) -> (f64, f64) {
+        match (self.order.sign() as i64 * k as i64).rem_euclid(4) {
+            0 => (-sp, cp),
+            1 => (cp, sp),
+            2 => (sp, -cp),
+            _ => (-cp, -sp),
+        }
+    }
+
     /// Table positions of the four marks for point A at `a` and angles `phi, theta, psi`.
     #[inline]
     pub fn marks(&self, a: [f64; 2], phi: f64, theta: f64, psi: f64) -> [[f64; 2]; MARKS] {
-        let (sp, cp) = phi.sin_cos();
-        let st = theta.sin();
+        self.marks_sc(a, sin_cos(phi), sin_cos(theta).0, sin_cos(psi))
+    }
+
+    fn marks_sc(
+        &self,
+        a: [f64; 2],
+        (sp, cp): (f64, f64),
+        st: f64,
+        sc_psi: (f64, f64),
+    ) -> [[f64; 2]; MARKS] {
         let e1 = [cp, sp];
         let e3 = [st * sp, -st * cp];
         std::array::from_fn(|k| {
-            let (s, c) = self.angle(k, psi).sin_cos();
+            let (s, c) = self.sin_cos_of(k, sc_psi);
             [
                 a[0] + self.radius * (c * e1[0] + s * e3[0]),
                 a[1] + self.radius * (c * e1[1] + s * e3[1]),
@@ -103,11 +125,12 @@ impl MarkGeometry {
     /// rolling on the table: A's height follows from `theta`).
     #[inline]
     pub fn marks3(&self, a: [f64; 2], phi: f64, theta: f64, psi: f64) -> [[f64; 3]; MARKS] {
-        let m = self.marks(a, phi, theta, psi);
-        let (st, ct) = theta.sin_cos();
+        let (st, ct) = sin_cos(theta);
+        let sc_psi = sin_cos(psi);
+        let m = self.marks_sc(a, sin_cos(phi), st, sc_psi);
         let z_a = self.h * st + self.r_outer * ct;
         std::array::from_fn(|k| {
-            [m[k][0], m[k][1], z_a + self.radius * self.angle(k, psi).sin() * ct]
+            [m[k][0], m[k][1], z_a + self.radius * self.sin_cos_of(k, sc_psi).0 * ct]
         })
     }
 }
