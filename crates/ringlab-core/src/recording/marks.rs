@@ -103,6 +103,8 @@ impl MarkGeometry {
         self.marks_sc(a, sin_cos(phi), sin_cos(theta).0, sin_cos(psi))
     }
 
+    /// [`MarkGeometry::marks`] from the sine and cosine of `phi` and of `psi` and the sine of
+    /// `theta` ([`MarkGeometry::marks3`] needs them too).
     fn marks_sc(
         &self,
         a: [f64; 2],
