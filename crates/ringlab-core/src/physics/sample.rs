@@ -1,6 +1,7 @@
 //! One sample of a run: the state and everything derived from it at one time (positions of
 //! A and P, the contact force, energy, Reynolds number, and whether the contact slides).
 
+use super::body::Body;
 use super::model::{Dynamics, Model, StateVec, ix};
 use super::slip::{SlideVec, SlidingModel, sliding_energy};
 use super::trig::sin_cos;
@@ -37,6 +38,24 @@ pub struct Sample {
     pub slip_speed: f64,
 }
 
+/// Point A, the centre of the top edge, on the table's axes: `r_A = r_C + (h/2) e2`.
+pub fn top_centre(body: &Body, y: &StateVec) -> (f64, f64) {
+    top_centre_sc(body, y, sin_cos(y[ix::THETA]), sin_cos(y[ix::PHI]))
+}
+
+/// [`top_centre`] from the sines and cosines of `theta` and `phi`.
+#[inline]
+fn top_centre_sc(
+    body: &Body,
+    y: &StateVec,
+    (_, ct): (f64, f64),
+    (sp, cp): (f64, f64),
+) -> (f64, f64) {
+    // Horizontal part of e2 is cos(theta) E2', E2' = (-sin phi, cos phi).
+    let a = 0.5 * body.h;
+    (y[ix::X] - a * ct * sp, y[ix::Y] + a * ct * cp)
+}
+
 impl Sample {
     /// A sample of a rolling state.
     pub fn new(model: &Model, t: f64, y: &StateVec) -> Sample {
@@ -66,8 +85,7 @@ impl Sample {
         let (st, ct) = sin_cos(y[ix::THETA]);
         let (sp, cp) = sin_cos(y[ix::PHI]);
         let a = 0.5 * b.h;
-        // Horizontal part of e2 is cos(theta) E2', E2' = (-sin phi, cos phi).
-        let (x_a, y_a) = (y[ix::X] - a * ct * sp, y[ix::Y] + a * ct * cp);
+        let (x_a, y_a) = top_centre_sc(b, y, (st, ct), (sp, cp));
         // P = C - (h/2) e2 - R e3; its horizontal offset is (R sin - (h/2) cos) E2'.
         let lever = b.r * st - a * ct;
         let (x_p, y_p) = (y[ix::X] - lever * sp, y[ix::Y] + lever * cp);

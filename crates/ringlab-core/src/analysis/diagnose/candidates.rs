@@ -202,6 +202,7 @@ fn first_stage(
         max_iterations: LEVEL_ITERATIONS,
         rel_tol: 1e-4,
         covariance: false,
+        exact_finish: false,
         ..LmOptions::default()
     };
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();

@@ -254,6 +254,9 @@ pub fn fit_path(
             rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
             covariance: last,
             secant_steps: if last { FINAL_SECANT_STEPS } else { 0 },
+            // The baseline's misfit is what every candidate's is measured against: its last
+            // stage stops where the exact gradient vanishes (`lm`'s cheaper columns).
+            exact_finish: last && kind == EffectKind::None,
             ..LmOptions::default()
         };
         let sol = lm::solve(

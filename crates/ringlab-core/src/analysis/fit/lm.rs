@@ -32,6 +32,10 @@ pub struct AtPoint {
     /// What the columns' evaluations share: the model run's step ends, which the runs of the
     /// columns follow (`physics::run`'s `steps.rs`: a smooth difference at any tolerance).
     pub step_ends: Option<Arc<[f64]>>,
+    /// The residuals the integrated columns are differenced against, where their runs take
+    /// another scheme than the point's ([`BlockProblem::column_residuals`]): that scheme's run
+    /// at the point. None: the point's own residuals.
+    pub column_base: Option<Vec<f64>>,
 }
 
 /// Residuals in blocks; each block's length must not depend on the parameters.
@@ -52,8 +56,16 @@ pub trait BlockProblem: Sync {
     }
     /// Once per block where a Jacobian is made, before its columns: the columns of
     /// [`BlockProblem::symmetric_locals`] and what the other columns' evaluations share. None
-    /// where it cannot be had. Default: nothing shared (and no symmetric locals).
-    fn at_point(&self, _s: usize, _global: &[f64], _local: &[f64]) -> Option<AtPoint> {
+    /// where it cannot be had. Default: nothing shared (and no symmetric locals). With
+    /// `cheap`, the other columns may be evaluated by a cheaper, less exact scheme
+    /// ([`AtPoint::column_base`]); [`solve`] asks for exact ones before it stops.
+    fn at_point(
+        &self,
+        _s: usize,
+        _global: &[f64],
+        _local: &[f64],
+        _cheap: bool,
+    ) -> Option<AtPoint> {
         Some(AtPoint::default())
     }
     /// Residuals of block `s` for a forward-difference column at `at`'s point. Default: as
@@ -90,6 +102,10 @@ pub struct LmOptions {
     /// fresh one). `max_iterations` counts fresh Jacobians; steps in all are capped at
     /// `max_iterations * (1 + secant_steps)`.
     pub secant_steps: usize,
+    /// Whether a fit on cheaper columns ([`AtPoint::column_base`]) goes on with exact ones
+    /// where they stall, to stop where the exact gradient vanishes. A fit that only leads to
+    /// the next one (a stage of a path) can stop where the cheaper ones stall.
+    pub exact_finish: bool,
 }
 
 impl Default for LmOptions {
@@ -100,6 +116,7 @@ impl Default for LmOptions {
             lambda0: 1e-3,
             covariance: true,
             secant_steps: 0,
+            exact_finish: true,
         }
     }
 }
@@ -145,6 +162,8 @@ impl LmSolution {
 struct Linearized {
     blocks: Vec<BlockJacobian>,
     cost: f64,
+    /// Whether some block's columns came from the cheaper scheme.
+    cheap: bool,
 }
 
 struct BlockJacobian {
@@ -169,13 +188,15 @@ fn linearize(
     b: &[Vec<f64>],
     base: Vec<Vec<f64>>,
     cost: f64,
+    cheap: bool,
 ) -> Option<Linearized> {
     p.settle();
     let (ng, nb) = (p.global_count(), p.block_size());
     let sym = p.symmetric_locals();
     let at: Option<Vec<AtPoint>> =
-        (0..p.block_count()).into_par_iter().map(|s| p.at_point(s, g, &b[s])).collect();
+        (0..p.block_count()).into_par_iter().map(|s| p.at_point(s, g, &b[s], cheap)).collect();
     let at = at?;
+    let cheap = at.iter().any(|a| a.column_base.is_some());
     p.settle();
     // One job per (block, column) left after the symmetry's.
     let jobs: Vec<(usize, usize)> = (0..p.block_count())
@@ -197,7 +218,8 @@ fn linearize(
                 h
             };
             let r = p.column_residuals(s, &gg, &bb, &at[s])?;
-            Some((c, r.iter().zip(&base[s]).map(|(a, r0)| (a - r0) / h).collect()))
+            let r0 = at[s].column_base.as_ref().unwrap_or(&base[s]);
+            Some((c, r.iter().zip(r0).map(|(a, r0)| (a - r0) / h).collect()))
         })
         .collect();
     let mut cols: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); ng + nb]; p.block_count()];
@@ -225,7 +247,7 @@ fn linearize(
             }
         })
         .collect();
-    Some(Linearized { blocks, cost })
+    Some(Linearized { blocks, cost, cheap })
 }
 
 /// A damped step and the inverse of the damped Schur complement.
@@ -349,6 +371,11 @@ pub fn solve(
     // The current linearization, and the secant steps taken on it since it was fresh.
     let mut current: Option<(Linearized, usize)> = None;
     let mut fresh_jacobians = 0;
+    // Jacobians of the cheaper columns while they lead somewhere, exact ones from where one
+    // stalls: the fit stops where the exact gradient vanishes (with large residuals, a few
+    // percent off in the Jacobian moves that point).
+    let mut cheap = true;
+    let switch = opts.exact_finish;
     'outer: while iterations < max_steps {
         if cancel.load(Ordering::Relaxed) {
             return Err(LmError::Cancelled);
@@ -360,7 +387,18 @@ pub fn solve(
                     break;
                 }
                 fresh_jacobians += 1;
-                let Some(lin) = linearize(p, &g, &b, res.clone(), cost) else { break };
+                let lin = match linearize(p, &g, &b, res.clone(), cost, cheap) {
+                    Some(lin) => lin,
+                    None if cheap => {
+                        cheap = false;
+                        let Some(lin) = linearize(p, &g, &b, res.clone(), cost, false) else {
+                            break;
+                        };
+                        lin
+                    }
+                    None => break,
+                };
+                cheap &= lin.cheap;
                 (lin, 0)
             }
         };
@@ -382,6 +420,10 @@ pub fn solve(
             let Some(Step { dg, db, schur_inverse }) = chosen else {
                 lambda *= 10.0;
                 if lambda > 1e16 {
+                    if lin.cheap && switch {
+                        (cheap, lambda) = (false, opts.lambda0);
+                        break;
+                    }
                     break 'outer;
                 }
                 continue;
@@ -409,6 +451,10 @@ pub fn solve(
                     lambda = (lambda / 3.0).max(1e-12);
                     on_iteration(iterations, cost);
                     if gain < opts.rel_tol {
+                        if fresh && lin.cheap && switch {
+                            cheap = false;
+                            break;
+                        }
                         if fresh {
                             break 'outer;
                         }
@@ -425,6 +471,10 @@ pub fn solve(
                 _ => {
                     lambda *= 4.0;
                     if lambda > 1e16 {
+                        if lin.cheap && switch {
+                            (cheap, lambda) = (false, opts.lambda0);
+                            break;
+                        }
                         break 'outer;
                     }
                 }
@@ -434,7 +484,7 @@ pub fn solve(
     // The covariance at the solution, undamped (the last damped one where that fails).
     if !opts.covariance {
         cov = None;
-    } else if let Some(lin) = linearize(p, &g, &b, res, cost)
+    } else if let Some(lin) = linearize(p, &g, &b, res, cost, false)
         && let Some(step) = step(&lin, ng, 0.0, &pinned(p, &g))
     {
         cov = Some(step.schur_inverse);
@@ -560,6 +610,82 @@ mod tests {
         for (b, (a, c)) in sol.local.iter().zip(truth) {
             assert!((b[0] - a).abs() < 0.05 && (b[1] - c).abs() < 0.05, "{b:?} vs {a}, {c}");
         }
+    }
+
+    /// A decay fitted to data of another shape (large residuals), its columns optionally by a
+    /// "cheaper scheme": the model with its rate 10% off, differenced against its own residuals.
+    struct Skewed {
+        t: Vec<f64>,
+        data: Vec<f64>,
+        offers_cheap: bool,
+    }
+    impl Skewed {
+        fn residuals_at(&self, k: f64, a: f64) -> Vec<f64> {
+            self.t.iter().zip(&self.data).map(|(t, y)| a * (-k * t).exp() - y).collect()
+        }
+    }
+    impl BlockProblem for Skewed {
+        fn global_count(&self) -> usize {
+            2
+        }
+        fn block_count(&self) -> usize {
+            1
+        }
+        fn block_size(&self) -> usize {
+            0
+        }
+        fn residuals(&self, _: usize, g: &[f64], _: &[f64]) -> Option<Vec<f64>> {
+            Some(self.residuals_at(g[0], g[1]))
+        }
+        fn global_step(&self, _: usize, v: f64) -> f64 {
+            1e-7 * v.abs().max(1e-3)
+        }
+        fn local_step(&self, _: usize, _: f64) -> f64 {
+            0.0
+        }
+        fn at_point(&self, _: usize, g: &[f64], _: &[f64], cheap: bool) -> Option<AtPoint> {
+            let column_base =
+                (cheap && self.offers_cheap).then(|| self.residuals_at(1.1 * g[0], g[1]));
+            Some(AtPoint { column_base, ..AtPoint::default() })
+        }
+        fn column_residuals(
+            &self,
+            _: usize,
+            g: &[f64],
+            _: &[f64],
+            at: &AtPoint,
+        ) -> Option<Vec<f64>> {
+            let k = if at.column_base.is_some() { 1.1 * g[0] } else { g[0] };
+            Some(self.residuals_at(k, g[1]))
+        }
+    }
+
+    #[test]
+    fn cheaper_columns_finish_on_exact_ones_where_the_fit_stops() {
+        let t: Vec<f64> = (0..60).map(|i| i as f64 * 0.1).collect();
+        let data = t.iter().map(|t| 2.0 * (-0.7 * t).exp() + 0.3 * (3.0 * t).sin()).collect();
+        let mut p = Skewed { t, data, offers_cheap: false };
+        let fit = |p: &Skewed, exact_finish: bool| {
+            let opts = LmOptions {
+                max_iterations: 100,
+                rel_tol: 1e-12,
+                exact_finish,
+                ..LmOptions::default()
+            };
+            solve(p, vec![0.3, 1.0], vec![vec![]], &opts, &mut |_, _| {}, &AtomicBool::new(false))
+                .unwrap()
+                .global
+        };
+        let exact = fit(&p, true);
+        p.offers_cheap = true;
+        let finished = fit(&p, true);
+        let cheap_only = fit(&p, false);
+        let apart =
+            |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        // On the cheaper columns alone the fit stops where their gradient vanishes, not the
+        // exact one's; finished on exact columns, where the exact fit stops.
+        assert!(apart(&cheap_only, &exact) > 2e-4, "{cheap_only:?} vs {exact:?}");
+        assert!(apart(&finished, &exact) < 1e-7, "{finished:?} vs {exact:?}");
     }
 
     /// Counts the evaluations of a problem.

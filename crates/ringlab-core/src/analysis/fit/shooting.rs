@@ -7,7 +7,9 @@
 
 use super::lm::{AtPoint, BlockProblem};
 use super::params::ModelSpec;
+use crate::physics::integrator::dp5_along;
 use crate::physics::model::{STATE_LEN, ix};
+use crate::physics::sample::top_centre;
 use crate::physics::{Model, RunOptions, Sample, Simulation, SlipStart, StateVec};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
@@ -109,6 +111,9 @@ pub struct Prediction {
     pub steps: u64,
     /// Where each step ended, with [`StepChoice::Keep`].
     pub step_ends: Vec<f64>,
+    /// Whether the run ended on its own (at rest, flat, on the other rim) before the
+    /// segment's end: its last frames then show its end state, still.
+    pub ended_early: bool,
 }
 
 /// As [`predict_samples`], with the integration steps it took.
@@ -132,7 +137,8 @@ pub fn predict_with_steps(
     range: Range<usize>,
     choice: StepChoice,
 ) -> Prediction {
-    let failed = |steps| Prediction { samples: None, steps, step_ends: Vec::new() };
+    let failed =
+        |steps| Prediction { samples: None, steps, step_ends: Vec::new(), ended_early: false };
     let t0 = range.start as f64 * dt;
     let n = range.len();
     let opts = RunOptions {
@@ -179,7 +185,12 @@ pub fn predict_with_steps(
     };
     grid.truncate(moving.min(grid.len()));
     grid.resize(n, summary.final_sample);
-    Prediction { samples: Some(grid), steps: summary.stats.steps, step_ends: summary.step_ends }
+    Prediction {
+        samples: Some(grid),
+        steps: summary.stats.steps,
+        step_ends: summary.step_ends,
+        ended_early: summary.end_reason.is_natural(),
+    }
 }
 
 impl Shooting<'_> {
@@ -203,12 +214,25 @@ impl Shooting<'_> {
         camera: &Camera,
         s: &Sample,
     ) -> [[f64; 2]; MARKS] {
+        self.project_at(geometry, camera, [s.x_a, s.y_a], &s.y)
+    }
+
+    /// [`Self::project`] of state `y`, its top centre at `a`.
+    #[inline]
+    fn project_at(
+        &self,
+        geometry: &MarkGeometry,
+        camera: &Camera,
+        a: [f64; 2],
+        y: &StateVec,
+    ) -> [[f64; 2]; MARKS] {
         let k = self.length_mm;
+        let (phi, theta, psi) = (y[ix::PHI], y[ix::THETA], y[ix::PSI]);
         if camera.sees_height() {
-            let m = geometry.marks3([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
+            let m = geometry.marks3(a, phi, theta, psi);
             return m.map(|p| camera.to_px3(p[0] * k, p[1] * k, p[2] * k));
         }
-        let m = geometry.marks([s.x_a, s.y_a], s.phi(), s.theta(), s.psi());
+        let m = geometry.marks(a, phi, theta, psi);
         m.map(|p| camera.to_px(p[0] * k, p[1] * k))
     }
 
@@ -238,7 +262,12 @@ impl Shooting<'_> {
         choice: StepChoice,
     ) -> Prediction {
         if self.budget.as_ref().is_some_and(|b| b.spent()) {
-            return Prediction { samples: None, steps: 0, step_ends: Vec::new() };
+            return Prediction {
+                samples: None,
+                steps: 0,
+                step_ends: Vec::new(),
+                ended_early: false,
+            };
         }
         let later;
         let model = if s > 0
@@ -352,8 +381,8 @@ impl BlockProblem for Shooting<'_> {
     fn symmetric_locals(&self) -> &[usize] {
         &SYMMETRIC
     }
-    fn at_point(&self, s: usize, global: &[f64], local: &[f64]) -> Option<AtPoint> {
-        self.at_point_of(s, global, local)
+    fn at_point(&self, s: usize, global: &[f64], local: &[f64], cheap: bool) -> Option<AtPoint> {
+        self.at_point_of(s, global, local, cheap)
     }
     fn column_residuals(
         &self,
@@ -362,8 +391,13 @@ impl BlockProblem for Shooting<'_> {
         local: &[f64],
         at: &AtPoint,
     ) -> Option<Vec<f64>> {
-        let choice = at.step_ends.as_ref().map_or(StepChoice::Adaptive, StepChoice::Follow);
-        self.segment_residuals_with_steps(s, global, local, choice)
+        match (&at.step_ends, &at.column_base) {
+            (Some(ends), Some(_)) => self.segment_residuals_along(s, global, local, ends),
+            (Some(ends), None) => {
+                self.segment_residuals_with_steps(s, global, local, StepChoice::Follow(ends))
+            }
+            (None, _) => self.segment_residuals(s, global, local),
+        }
     }
 }
 
@@ -378,7 +412,7 @@ impl Shooting<'_> {
     /// One run at the point, its step ends kept for the other columns, and the
     /// forward-difference columns for [`SYMMETRIC`] from it: the samples moved, turned
     /// or spun, and projected again.
-    fn at_point_of(&self, s: usize, global: &[f64], local: &[f64]) -> Option<AtPoint> {
+    fn at_point_of(&self, s: usize, global: &[f64], local: &[f64], cheap: bool) -> Option<AtPoint> {
         let (model, camera) = self.spec.build(global)?;
         let y0: StateVec = local.try_into().ok()?;
         if y0.iter().any(|v| !v.is_finite()) {
@@ -412,8 +446,47 @@ impl Shooting<'_> {
             });
             self.residuals_of(s, &moved).iter().zip(&base).map(|(a, b)| (a - b) / h).collect()
         });
-        let step_ends = Some(Arc::from(run.step_ends));
-        Some(AtPoint { symmetry: cols.to_vec(), step_ends })
+        let step_ends: Arc<[f64]> = Arc::from(run.step_ends);
+        // A rolling run that reached the segment's end: the integrated columns by a cheaper
+        // formula along its steps (`dp5_along`), against that formula's own run at the point.
+        // A slip run switches contact and an early end freezes frames, which those steps do
+        // not carry: their columns follow with DOP853 as before.
+        let column_base = (cheap && model.effects.slip_mu.is_none() && !run.ended_early)
+            .then(|| self.segment_residuals_along(s, global, local, &step_ends))
+            .flatten();
+        Some(AtPoint { symmetry: cols.to_vec(), step_ends: Some(step_ends), column_base })
+    }
+
+    /// Residuals of segment `s` from a run by a fifth-order formula along `ends`
+    /// ([`dp5_along`]), charged to the budget a step per end as the run it follows; None
+    /// where that run fails or the budget is spent.
+    fn segment_residuals_along(
+        &self,
+        s: usize,
+        global: &[f64],
+        state: &[f64],
+        ends: &[f64],
+    ) -> Option<Vec<f64>> {
+        if self.budget.as_ref().is_some_and(|b| b.spent()) {
+            return None;
+        }
+        let (model, camera) = self.spec.build(global)?;
+        let y0: StateVec = state.try_into().ok()?;
+        let range = self.segments[s].clone();
+        let t0 = range.start as f64 * self.dt;
+        let (states, steps) = dp5_along(&model, t0, y0, ends, self.dt, range.len())?;
+        if let Some(b) = &self.budget {
+            b.charge(steps);
+        }
+        let geometry = self.geometry_of(&model);
+        let marks: PredictedMarks = states
+            .iter()
+            .map(|y| {
+                let (x_a, y_a) = top_centre(&model.body, y);
+                self.project_at(&geometry, &camera, [x_a, y_a], y)
+            })
+            .collect();
+        Some(self.residuals_of(s, &marks))
     }
 }
 

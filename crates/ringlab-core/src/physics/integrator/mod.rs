@@ -11,11 +11,13 @@
 //! The stepper is generic over the state size so that models with extra state (e.g. a sliding
 //! contact) reuse it.
 
+mod along;
 mod dop853;
 mod roots;
 #[allow(clippy::all)]
 mod tableau;
 
+pub use along::dp5_along;
 pub use dop853::{Dop853, IntegratorError, Stats, Tolerances};
 pub use roots::find_root;
 
