@@ -5,6 +5,7 @@
 mod common;
 
 use ringlab_core::analysis::diagnose::{DIAGNOSE_TOLERANCES, SLIP_TOLERANCES};
+use ringlab_core::analysis::fit::last_runs::LastRuns;
 use ringlab_core::analysis::fit::shooting::{
     PredictedMarks, Prediction, Shooting, StepChoice, predict_with_steps,
 };
@@ -238,6 +239,7 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
             geometry: MarkGeometry::of_body(&case.model.body, MarkOrder::Forward),
             length_mm: s.length_mm,
             budget: None,
+            last_runs: LastRuns::default(),
         };
         let predicted: PredictedMarks =
             s.samples.iter().map(|x| sh.project(&sh.geometry, &camera, x)).collect();

@@ -4,6 +4,7 @@
 //! progress reports and the cancel flag.
 
 use super::coarse;
+use super::last_runs::LastRuns;
 use super::lm::{self, LmOptions, LmSolution};
 use super::options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};
 use super::params::{Free, ModelSpec, StartReynolds};
@@ -170,6 +171,7 @@ impl FitRun<'_> {
             geometry: motion.geometry_mm.scaled(to_model.length),
             length_mm: 1.0 / to_model.length,
             budget: None,
+            last_runs: LastRuns::default(),
         };
         let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
         if let (Some((_, strength)), Some(g)) = (opts.effect, global.get_mut(3)) {

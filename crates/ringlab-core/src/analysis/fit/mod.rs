@@ -43,6 +43,7 @@
 //! its cancel flag is set.
 
 pub mod coarse;
+pub mod last_runs;
 pub mod lm;
 pub mod params;
 pub mod shooting;

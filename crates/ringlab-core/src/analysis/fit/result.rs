@@ -1,5 +1,6 @@
 //! What a fit found, and the fitted model run again.
 
+use super::last_runs::LastRuns;
 use super::params::{Free, ModelSpec, StartReynolds};
 use super::shooting::Shooting;
 use crate::physics::effects::EffectKind;
@@ -75,6 +76,7 @@ impl FitResult {
             geometry: self.geometry,
             length_mm: self.units.length_mm,
             budget: None,
+            last_runs: LastRuns::default(),
         }
     }
 

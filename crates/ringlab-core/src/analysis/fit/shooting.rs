@@ -5,6 +5,7 @@
 //! frame times; once the run ends (flat), the frames show its final pose, still, as a
 //! recording does and as `synth` writes (frames at or after `floor(t_end / dt)`).
 
+use super::last_runs::LastRuns;
 use super::lm::{AtPoint, BlockProblem};
 use super::params::ModelSpec;
 use crate::physics::integrator::dp5_along;
@@ -37,6 +38,9 @@ pub struct Shooting<'a> {
     pub length_mm: f64,
     /// Integration steps this fit may spend in all (None: no limit); shared by its clones.
     pub budget: Option<Arc<WorkBudget>>,
+    /// Each segment's last run, for the Jacobian at that point ([`LastRuns`]); a clone's is
+    /// empty.
+    pub last_runs: LastRuns,
 }
 
 /// A cap on the integration steps of one fit, shared by the threads that work for it. Once it
@@ -364,7 +368,15 @@ impl BlockProblem for Shooting<'_> {
         STATE_LEN
     }
     fn residuals(&self, s: usize, global: &[f64], local: &[f64]) -> Option<Vec<f64>> {
-        self.segment_residuals(s, global, local)
+        let (model, camera) = self.spec.build(global)?;
+        let y0: StateVec = local.try_into().ok()?;
+        if y0.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let run = self.samples_with_steps(&model, s, &y0, StepChoice::Keep);
+        let r = self.residuals_of(s, &self.marks_of(&model, &camera, run.samples.as_ref()?));
+        self.last_runs.keep(s, &self.segments[s], global, local, run);
+        Some(r)
     }
     fn settle(&self) {
         self.settle_budget();
@@ -418,7 +430,18 @@ impl Shooting<'_> {
         if y0.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let run = self.samples_with_steps(&model, s, &y0, StepChoice::Keep);
+        // The run the evaluation at this point made, charged again as if made again (the
+        // budget then stops a fit where it did before).
+        let kept = self.last_runs.take(s, &self.segments[s], global, local);
+        let run = match kept {
+            Some(run) if !self.budget.as_ref().is_some_and(|b| b.spent()) => {
+                if let Some(b) = &self.budget {
+                    b.charge(run.steps);
+                }
+                run
+            }
+            _ => self.samples_with_steps(&model, s, &y0, StepChoice::Keep),
+        };
         let samples = run.samples?;
         let geometry = self.geometry_of(&model);
         let project = |f: &dyn Fn(&Sample) -> Sample| -> PredictedMarks {
