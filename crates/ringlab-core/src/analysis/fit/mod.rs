@@ -29,7 +29,11 @@
 //! 4. Each segment's state in turn, from the previous segment's end (or the reconstruction,
 //!    whichever fits better), with the coarse drag.
 //! 5. Levenberg-Marquardt on everything ([`lm`]); `c_sigma` from its covariance with the
-//!    residual variance.
+//!    residual variance. Its derivative columns are runs that follow the steps of the run at
+//!    the point (`physics::run`'s `steps.rs`), by a cheaper formula for a rolling run
+//!    (`physics::integrator::dp5_along`) and by DOP853 where the cheaper ones stall
+//!    ([`lm::LmOptions::exact_finish`]); the run an evaluation made is kept for the Jacobian
+//!    at that point ([`last_runs`]).
 //! 6. Segments twice as long (pairs merged, the first state of each pair kept), fitted again,
 //!    at most [`FitOptions::merges`] times and only while the misfit grows by no more than
 //!    the freed parameters allow: longer segments carry more of the drag's effect (on the

@@ -9,7 +9,8 @@
 //! dense extension be computed lazily, only for steps that hold an output sample or an event.
 //!
 //! The stepper is generic over the state size so that models with extra state (e.g. a sliding
-//! contact) reuse it.
+//! contact) reuse it. Beside it, a fixed-step fifth-order formula along the steps a DOP853 run
+//! chose ([`dp5_along`]): the least squares' cheaper derivative columns.
 
 mod along;
 mod dop853;
