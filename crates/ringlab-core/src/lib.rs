@@ -9,6 +9,7 @@
 
 pub mod analysis;
 pub mod config;
+pub mod film;
 pub mod physics;
 pub mod plot;
 pub mod recording;

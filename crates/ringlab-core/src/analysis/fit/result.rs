@@ -80,6 +80,24 @@ impl FitResult {
         }
     }
 
+    /// The fitted model's four marks in pixels at every frame its segments cover (each
+    /// segment from its fitted state), `None` elsewhere: what is drawn over the film.
+    pub fn predicted_marks(&self, observed: &[FrameMarks]) -> Vec<Option<[[f64; 2]; 4]>> {
+        let mut out = vec![None; observed.len()];
+        let shooting = self.shooting(observed);
+        for (s, range) in self.segments.iter().enumerate() {
+            let Some(state) = self.segment_states.get(s) else { continue };
+            if let Some(marks) = shooting.predict(&self.model, &self.camera, s, state) {
+                for (i, m) in range.clone().zip(marks) {
+                    if let Some(slot) = out.get_mut(i) {
+                        *slot = Some(m);
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// The fitted model run from the fitted start to its end, sampled at the recording's
     /// frames (`t = start_t + k dt`): the model's path to show beside the recording's (same
     /// table coordinates, model units; the recording's are in mm).

@@ -1,0 +1,476 @@
+//! Following the four marks from frame to frame: each mark predicted from its last frames
+//! (A extrapolated, the mark's offset from A in angle and length, which stay smooth while the
+//! ring spins fast), a hidden mark from the other three (the parallelogram), searched for
+//! near there alone, its centre refined, then kept only where it is as strong as the mark
+//! was and, for colours, of its hue. A mark that cannot be told from another is left out and
+//! counted, never swapped.
+
+use super::centre::{Centre, Polarity, colour_centre, dot_centre};
+use super::find::{Found, find_marks_sized};
+use super::frame::{CHROMA_OFFSET, Frame};
+use super::{MarkStyle, Roi};
+use crate::recording::FrameMarks;
+
+/// What one frame gave.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameResult {
+    pub marks: FrameMarks,
+    /// Standard error of each centre found (px, per coordinate).
+    pub sigma: [Option<f64>; 4],
+    /// Marks left out because another mark claimed the same place.
+    pub ambiguous: usize,
+}
+
+#[derive(Clone, Debug)]
+struct MarkState {
+    /// Last positions found, newest last, with their frame index.
+    history: Vec<(u64, [f64; 2])>,
+    /// Typical strength of this mark when seen.
+    strength: f64,
+    /// Colour marks: the hue (radians in the Cb, Cr plane).
+    hue: f64,
+    /// Colour marks: the blob's width (px).
+    width: f64,
+}
+
+/// The follower's state between frames.
+pub struct Follower {
+    style: MarkStyle,
+    polarity: Polarity,
+    /// Dots: the disc (px) the centroid is taken over.
+    disc: f64,
+    marks: [MarkState; 4],
+    /// A (the marks' centre) by frame, newest last.
+    centres: Vec<(u64, [f64; 2])>,
+    /// Where the marks may be, and the range of the marks' semi-major axis (px).
+    roi: Roi,
+    range: (f64, f64),
+    /// The marks' semi-major axis when last all found (px).
+    size: f64,
+    /// Times the four were found anew in a frame (after a loss or at the start).
+    pub refound: usize,
+}
+
+const HISTORY: usize = 4;
+
+fn angle_between(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(std::f64::consts::TAU);
+    d.min(std::f64::consts::TAU - d)
+}
+
+fn unwrap(reference: f64, a: f64) -> f64 {
+    reference + (a - reference + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        - std::f64::consts::PI
+}
+
+/// The centre of four marks from what was found: the mean of an opposite pair's midpoints.
+pub fn centre_of(marks: &FrameMarks) -> Option<[f64; 2]> {
+    let mid = |a: [f64; 2], b: [f64; 2]| [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    match (
+        marks[0].zip(marks[2]).map(|(a, b)| mid(a, b)),
+        marks[1].zip(marks[3]).map(|(a, b)| mid(a, b)),
+    ) {
+        (Some(m), Some(n)) => Some(mid(m, n)),
+        (m, n) => m.or(n),
+    }
+}
+
+impl Follower {
+    /// Starts from four marks found in frame `index`.
+    pub fn new(
+        style: MarkStyle,
+        found: &Found,
+        frame: &Frame,
+        index: u64,
+        roi: Roi,
+        range: (f64, f64),
+    ) -> Follower {
+        let polarity = if style == MarkStyle::Bright { Polarity::Bright } else { Polarity::Dark };
+        let disc = if style == MarkStyle::Colours {
+            0.0
+        } else {
+            measure_dot(frame, polarity, &found.marks[0], found.dot_radius) + 1.0
+        };
+        let marks = found.marks.map(|c| MarkState {
+            history: vec![(index, [c.x, c.y])],
+            strength: 0.0,
+            hue: c.chroma[1].atan2(c.chroma[0]),
+            width: 1.2,
+        });
+        let d1 = [
+            (found.marks[0].x - found.marks[2].x) / 2.0,
+            (found.marks[0].y - found.marks[2].y) / 2.0,
+        ];
+        let d2 = [
+            (found.marks[1].x - found.marks[3].x) / 2.0,
+            (found.marks[1].y - found.marks[3].y) / 2.0,
+        ];
+        let size = super::find::ellipse_axes(d1, d2).0;
+        let mut f = Follower {
+            style,
+            polarity,
+            disc,
+            marks,
+            centres: Vec::new(),
+            roi,
+            range,
+            size,
+            refound: 0,
+        };
+        // The strengths and hues by the same measure as later frames.
+        for k in 0..4 {
+            if let Some(c) = f.centre_at(frame, found.marks[k].x, found.marks[k].y, k, 4.0) {
+                f.marks[k].strength = c.strength;
+                f.marks[k].history = vec![(index, [c.x, c.y])];
+                if style == MarkStyle::Colours {
+                    f.marks[k].hue = c.chroma[1].atan2(c.chroma[0]);
+                    f.marks[k].width = 1.2;
+                }
+            } else {
+                f.marks[k].strength = found.marks[k].strength;
+            }
+        }
+        let first: FrameMarks = std::array::from_fn(|k| Some(f.marks[k].history[0].1));
+        if let Some(a) = centre_of(&first) {
+            f.centres.push((index, a));
+        }
+        f
+    }
+
+    /// Where each mark was last found.
+    pub fn last_positions(&self) -> [Option<[f64; 2]>; 4] {
+        std::array::from_fn(|k| self.marks[k].history.last().map(|h| h.1))
+    }
+
+    /// Colour marks: mark `k`'s hue.
+    pub fn hue(&self, k: usize) -> f64 {
+        self.marks[k].hue
+    }
+
+    /// The dots' disc radius (px) for the centroid.
+    pub fn disc(&self) -> f64 {
+        self.disc
+    }
+
+    /// Whether mark `k` was found in the two frames before `index` (its motion is known).
+    fn moving(&self, k: usize, index: u64) -> bool {
+        let h = &self.marks[k].history;
+        h.len() >= 2 && h[h.len() - 1].0 + 1 == index && h[h.len() - 2].0 + 2 == index
+    }
+
+    /// The four found anew near where the ring was last, numbered as before: colours by their
+    /// hue; dots by the rotation of the numbers that puts them nearest where they were last,
+    /// where one rotation is clearly the best.
+    fn find_again(&self, frame: &Frame, index: u64) -> Option<Found> {
+        let last: Vec<(usize, [f64; 2])> = (0..4)
+            .filter_map(|k| {
+                self.marks[k].history.last().filter(|h| index - h.0 <= 8).map(|h| (k, h.1))
+            })
+            .collect();
+        let roi = if last.is_empty() {
+            self.roi
+        } else {
+            let (cx, cy) = (
+                last.iter().map(|p| p.1[0]).sum::<f64>() / last.len() as f64,
+                last.iter().map(|p| p.1[1]).sum::<f64>() / last.len() as f64,
+            );
+            let r = 2.0 * self.size + 30.0;
+            Roi { x: (cx - r).max(0.0), y: (cy - r).max(0.0), width: 2.0 * r, height: 2.0 * r }
+        };
+        let range = if self.size > 0.0 { (0.6 * self.size, 1.6 * self.size) } else { self.range };
+        let known = if self.style == MarkStyle::Colours { 0.0 } else { (self.disc - 1.0).max(1.0) };
+        let (_, found) = find_marks_sized(frame, &roi, self.style, range, known)?;
+        let cost = |rot: usize| -> f64 {
+            let mut s = 0.0;
+            for k in 0..4 {
+                let c = &found.marks[(k + rot) % 4];
+                s += match self.style {
+                    MarkStyle::Colours => {
+                        angle_between(c.chroma[1].atan2(c.chroma[0]), self.marks[k].hue)
+                    }
+                    _ => last
+                        .iter()
+                        .find(|p| p.0 == k)
+                        .map_or(0.0, |p| (p.1[0] - c.x).hypot(p.1[1] - c.y)),
+                };
+            }
+            s
+        };
+        if self.style != MarkStyle::Colours && last.len() < 2 {
+            return None;
+        }
+        let mut costs: Vec<(f64, usize)> = (0..4).map(|r| (cost(r), r)).collect();
+        costs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if costs[0].0 > 0.5 * costs[1].0 {
+            return None;
+        }
+        let mut marks = found.marks;
+        marks.rotate_left(costs[0].1);
+        Some(Found { marks, dot_radius: found.dot_radius })
+    }
+
+    fn centre_at(&self, frame: &Frame, x: f64, y: f64, k: usize, reach: f64) -> Option<Centre> {
+        match self.style {
+            MarkStyle::Colours => colour_centre(frame, x, y, self.marks[k].width, reach),
+            _ => dot_centre(&frame.luma_plane(), self.polarity, x, y, self.disc, reach),
+        }
+    }
+
+    /// Where mark `k` should be in frame `index`, and how far it may be from there.
+    fn predict(&self, k: usize, index: u64) -> Option<([f64; 2], f64)> {
+        let h = &self.marks[k].history;
+        let &(last_i, last) = h.last()?;
+        let gap = index.saturating_sub(last_i);
+        if gap == 0 || gap > 3 {
+            return None;
+        }
+        let centre = |i: u64| self.centres.iter().find(|c| c.0 == i).map(|c| c.1);
+        // Offsets from A in polar form, where A was known, at consecutive frames.
+        let recent: Vec<(u64, [f64; 2], [f64; 2])> =
+            h.iter().rev().take(3).filter_map(|&(i, p)| centre(i).map(|a| (i, p, a))).collect();
+        let consecutive = recent.windows(2).all(|w| w[0].0 == w[1].0 + 1);
+        let step_size = if h.len() >= 2 {
+            let p = h[h.len() - 2].1;
+            (last[0] - p[0]).hypot(last[1] - p[1]) / (last_i - h[h.len() - 2].0) as f64
+        } else {
+            6.0
+        };
+        let gate = (4.0 + 0.6 * step_size * gap as f64).min(20.0);
+        if recent.len() >= 2 && consecutive && recent[0].0 == last_i {
+            let g = gap as f64;
+            let polar = |(_, p, a): &(u64, [f64; 2], [f64; 2])| {
+                let o = [p[0] - a[0], p[1] - a[1]];
+                (o[1].atan2(o[0]), o[0].hypot(o[1]))
+            };
+            let (t1, r1) = polar(&recent[0]);
+            let (t2, r2) = polar(&recent[1]);
+            let t2 = unwrap(t1, t2);
+            let (a1, a2) = (recent[0].2, recent[1].2);
+            let (theta, radius, a) = if recent.len() == 3 {
+                let (t3, _) = polar(&recent[2]);
+                let t3 = unwrap(t2, t3);
+                let a3 = recent[2].2;
+                // Quadratic in the angle, linear in the length, quadratic in A.
+                let d1 = t1 - t2;
+                let d2 = t1 - 2.0 * t2 + t3;
+                let theta = t1 + g * d1 + 0.5 * g * (g + 1.0) * d2;
+                let a: [f64; 2] = std::array::from_fn(|c| {
+                    a1[c]
+                        + g * (a1[c] - a2[c])
+                        + 0.5 * g * (g + 1.0) * (a1[c] - 2.0 * a2[c] + a3[c])
+                });
+                (theta, r1 + g * (r1 - r2), a)
+            } else {
+                let a: [f64; 2] = std::array::from_fn(|c| a1[c] + g * (a1[c] - a2[c]));
+                (t1 + g * (t1 - t2), r1 + g * (r1 - r2), a)
+            };
+            return Some(([a[0] + radius * theta.cos(), a[1] + radius * theta.sin()], gate));
+        }
+        if h.len() >= 2 && h[h.len() - 2].0 + 1 == last_i {
+            let p = h[h.len() - 2].1;
+            let g = gap as f64;
+            return Some(([last[0] + g * (last[0] - p[0]), last[1] + g * (last[1] - p[1])], gate));
+        }
+        Some((last, gate.max(8.0)))
+    }
+
+    /// The strongest place of mark `k`'s kind within `gate` of `p`.
+    fn peak_near(&self, frame: &Frame, k: usize, p: [f64; 2], gate: f64) -> Option<[f64; 2]> {
+        match self.style {
+            MarkStyle::Colours => {
+                let (cb, cr) = (frame.cb_plane(), frame.cr_plane());
+                let (hc, hs) = (self.marks[k].hue.cos(), self.marks[k].hue.sin());
+                let g = (gate / 2.0).ceil() as i64;
+                let (ci, cj) = (
+                    ((p[0] - CHROMA_OFFSET) / 2.0).round() as i64,
+                    ((p[1] - CHROMA_OFFSET) / 2.0).round() as i64,
+                );
+                let k_bg = 4;
+                let mut best: Option<(f64, [f64; 2])> = None;
+                for j in cj - g..=cj + g {
+                    for i in ci - g..=ci + g {
+                        if !cb.holds(i, j, k_bg)
+                            || ((i - ci).pow(2) + (j - cj).pow(2)) as f64 > (g * g) as f64 + 0.5
+                        {
+                            continue;
+                        }
+                        // The hue's projection against the mean of a ring of samples round it.
+                        let proj = |i: i64, j: i64| {
+                            (cb.at(i as usize, j as usize) - 128.0) * hc
+                                + (cr.at(i as usize, j as usize) - 128.0) * hs
+                        };
+                        let mut bg = 0.0;
+                        let mut n = 0.0;
+                        for d in -k_bg..=k_bg {
+                            for (a, b) in [(d, -k_bg), (d, k_bg), (-k_bg, d), (k_bg, d)] {
+                                bg += proj(i + a, j + b);
+                                n += 1.0;
+                            }
+                        }
+                        let v = proj(i, j) - bg / n;
+                        if best.is_none_or(|(b, _)| v > b) {
+                            best = Some((
+                                v,
+                                [2.0 * i as f64 + CHROMA_OFFSET, 2.0 * j as f64 + CHROMA_OFFSET],
+                            ));
+                        }
+                    }
+                }
+                best.map(|b| b.1)
+            }
+            _ => {
+                let l = frame.luma_plane();
+                let g = gate.ceil() as i64;
+                let (xi, yi) = (p[0].round() as i64, p[1].round() as i64);
+                let inner = ((self.disc - 1.0) * 0.7).round().max(1.0) as i64;
+                let outer = (self.disc * 2.0).round() as i64;
+                let mut best: Option<(f64, [f64; 2])> = None;
+                let mean = |x: i64, y: i64, r: i64| {
+                    let mut s = 0.0;
+                    for j in y - r..=y + r {
+                        for i in x - r..=x + r {
+                            s += l.at(i as usize, j as usize);
+                        }
+                    }
+                    s / ((2 * r + 1) * (2 * r + 1)) as f64
+                };
+                for y in yi - g..=yi + g {
+                    for x in xi - g..=xi + g {
+                        if !l.holds(x, y, outer) || ((x - xi).pow(2) + (y - yi).pow(2)) > g * g {
+                            continue;
+                        }
+                        let v = self.polarity.signal(mean(x, y, outer), mean(x, y, inner));
+                        if best.is_none_or(|(b, _)| v > b) {
+                            best = Some((v, [x as f64, y as f64]));
+                        }
+                    }
+                }
+                best.map(|b| b.1)
+            }
+        }
+    }
+
+    /// Mark `k` searched for near `p`: its centre, if it is there and looks like itself.
+    fn look(&self, frame: &Frame, k: usize, p: [f64; 2], gate: f64) -> Option<Centre> {
+        let peak = self.peak_near(frame, k, p, gate)?;
+        let c = self.centre_at(frame, peak[0], peak[1], k, 3.0);
+        if std::env::var_os("RINGLAB_DEBUG").is_some() {
+            eprintln!(
+                "mark {k} p {p:?} gate {gate:.1} peak {peak:?} -> {c:?} (typical {:.1}, hue {:.2})",
+                self.marks[k].strength, self.marks[k].hue
+            );
+        }
+        let c = c?;
+        if (c.x - p[0]).hypot(c.y - p[1]) > gate + 1.0 {
+            return None;
+        }
+        let m = &self.marks[k];
+        if c.strength < 0.4 * m.strength {
+            return None;
+        }
+        if self.style == MarkStyle::Colours
+            && angle_between(c.chroma[1].atan2(c.chroma[0]), m.hue) > 0.6
+        {
+            return None;
+        }
+        Some(c)
+    }
+
+    /// One frame: the marks found in it.
+    pub fn step(&mut self, frame: &Frame, index: u64) -> FrameResult {
+        let mut found: [Option<Centre>; 4] = [None; 4];
+        if (0..4).filter(|&k| self.moving(k, index)).count() < 3 {
+            // Motion not known well enough to predict: the four found anew near the ring.
+            if let Some(again) = self.find_again(frame, index) {
+                self.refound += 1;
+                for k in 0..4 {
+                    found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
+                }
+            }
+        }
+        for k in 0..4 {
+            if found[k].is_none()
+                && let Some((p, gate)) = self.predict(k, index)
+            {
+                found[k] = self.look(frame, k, p, gate);
+            }
+        }
+        // Marks not followed: where the other three put them (the parallelogram rule).
+        for k in 0..4 {
+            if found[k].is_some() {
+                continue;
+            }
+            let (a, b, c) = (found[(k + 1) % 4], found[(k + 2) % 4], found[(k + 3) % 4]);
+            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                let p = [a.x + c.x - b.x, a.y + c.y - b.y];
+                let size = (a.x - c.x).hypot(a.y - c.y);
+                found[k] = self.look(frame, k, p, (0.08 * size + 3.0).min(10.0));
+            }
+        }
+        // Two marks in one place: neither can be trusted.
+        let near = if self.style == MarkStyle::Colours { 1.5 } else { self.disc.max(2.0) };
+        let mut ambiguous = [false; 4];
+        for i in 0..4 {
+            for j in i + 1..4 {
+                if let (Some(a), Some(b)) = (found[i], found[j])
+                    && (a.x - b.x).hypot(a.y - b.y) < near
+                {
+                    ambiguous[i] = true;
+                    ambiguous[j] = true;
+                }
+            }
+        }
+        let mut out = FrameResult::default();
+        for k in 0..4 {
+            if ambiguous[k] {
+                found[k] = None;
+                out.ambiguous += 1;
+            }
+            if let Some(c) = found[k] {
+                out.marks[k] = Some([c.x, c.y]);
+                out.sigma[k] = Some(c.sigma);
+                let m = &mut self.marks[k];
+                m.history.push((index, [c.x, c.y]));
+                if m.history.len() > HISTORY {
+                    m.history.remove(0);
+                }
+                m.strength = 0.9 * m.strength + 0.1 * c.strength;
+            }
+        }
+        if let Some(a) = centre_of(&out.marks) {
+            self.centres.push((index, a));
+            if self.centres.len() > HISTORY {
+                self.centres.remove(0);
+            }
+        }
+        out
+    }
+}
+
+/// A dot's radius (px): the area where its contrast passes half its depth, as a disc.
+fn measure_dot(frame: &Frame, polarity: Polarity, c: &super::find::Candidate, guess: f64) -> f64 {
+    let l = frame.luma_plane();
+    let r = (guess * 3.0).ceil() as i64 + 2;
+    let (xi, yi) = (c.x.round() as i64, c.y.round() as i64);
+    if !l.holds(xi, yi, r) {
+        return guess;
+    }
+    let mut ring = Vec::new();
+    let mut values = Vec::new();
+    for j in yi - r..=yi + r {
+        for i in xi - r..=xi + r {
+            let d = ((i - xi).pow(2) + (j - yi).pow(2)) as f64;
+            let v = l.at(i as usize, j as usize);
+            if d > (r as f64 - 1.5).powi(2) && d <= (r * r) as f64 {
+                ring.push(v);
+            } else if d <= (2.0 * guess).powi(2) {
+                values.push(v);
+            }
+        }
+    }
+    ring.sort_by(|a, b| a.total_cmp(b));
+    let bg = ring[ring.len() / 2];
+    let depth = values.iter().map(|&v| polarity.signal(bg, v)).fold(0.0, f64::max);
+    let area = values.iter().filter(|&&v| polarity.signal(bg, v) > depth / 2.0).count() as f64;
+    (area / std::f64::consts::PI).sqrt().clamp(1.0, 3.0 * guess)
+}

@@ -1,0 +1,425 @@
+//! Films of a spinning ring: the four marks found in each frame and written as a recording.
+//!
+//! Stages of [`track`]: open the film ([`source`]: ffmpeg for video files, the `image` crate
+//! for a folder of frames), find the four marks in the first frames ([`find`]), follow them
+//! frame by frame ([`follow`], sub-pixel centres by [`centre`]), measure the scale from the
+//! ring where none is given ([`scale`]), and assemble the recording with a report of what was
+//! found, left out, and the centres' error.
+
+pub mod centre;
+pub mod find;
+pub mod follow;
+pub mod frame;
+pub mod scale;
+pub mod source;
+
+pub use frame::Frame;
+pub use scale::RingScale;
+pub use source::{FilmInfo, FilmSource, VIDEO_EXTENSIONS, is_film};
+
+use crate::physics::Shape;
+use crate::recording::import::BodyMm;
+use crate::recording::marks::mark_radius;
+use crate::recording::{FrameMarks, Header, Recording, is_usable};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// What the marks look like.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MarkStyle {
+    /// Four distinct colours: each named by its hue.
+    Colours,
+    /// Four identical dots darker than the rim.
+    Dark,
+    /// Four identical dots brighter than the rim.
+    Bright,
+    /// Told from the first frames.
+    Auto,
+}
+
+impl MarkStyle {
+    pub const NAMES: &'static str = "colours, dark, bright, auto";
+    pub fn parse(s: &str) -> Option<MarkStyle> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "colours" | "colors" => Some(MarkStyle::Colours),
+            "dark" => Some(MarkStyle::Dark),
+            "bright" => Some(MarkStyle::Bright),
+            "auto" => Some(MarkStyle::Auto),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            MarkStyle::Colours => "colours",
+            MarkStyle::Dark => "dark",
+            MarkStyle::Bright => "bright",
+            MarkStyle::Auto => "auto",
+        }
+    }
+}
+
+/// A region of interest in pixels: the marks are looked for inside it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Roi {
+    pub x: f64,
+    pub y: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
+impl Roi {
+    pub fn whole(info: &FilmInfo) -> Roi {
+        Roi { x: 0.0, y: 0.0, width: info.width as f64, height: info.height as f64 }
+    }
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        x >= self.x && y >= self.y && x < self.x + self.width && y < self.y + self.height
+    }
+    /// The rectangle in a plane `scale` times coarser than the luma, clipped to it:
+    /// `(x0, y0, w, h)` in that plane's samples, with `margin` samples more on each side.
+    pub fn bounds(
+        &self,
+        scale: f64,
+        w: usize,
+        h: usize,
+        margin: usize,
+    ) -> (usize, usize, usize, usize) {
+        let x0 = ((self.x / scale).floor() as usize).saturating_sub(margin).min(w);
+        let y0 = ((self.y / scale).floor() as usize).saturating_sub(margin).min(h);
+        let x1 = (((self.x + self.width) / scale).ceil() as usize + margin).min(w);
+        let y1 = (((self.y + self.height) / scale).ceil() as usize + margin).min(h);
+        (x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0))
+    }
+
+    /// `X,Y,W,H` in pixels.
+    pub fn parse(s: &str) -> Option<Roi> {
+        let v: Vec<f64> =
+            s.split(',').map(|p| p.trim().parse::<f64>().ok()).collect::<Option<_>>()?;
+        let [x, y, width, height] = v[..] else { return None };
+        (v.iter().all(|v| v.is_finite()) && x >= 0.0 && y >= 0.0 && width > 0.0 && height > 0.0)
+            .then_some(Roi { x, y, width, height })
+    }
+}
+
+/// What the film does not say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackOptions {
+    pub style: MarkStyle,
+    pub roi: Option<Roi>,
+    /// First frame tracked (frames before it are passed over).
+    pub from_frame: u64,
+    /// Last frame tracked (inclusive); `None`: to the end.
+    pub to_frame: Option<u64>,
+    /// Frames per second where the film does not say (a folder of frames never does).
+    pub fps: Option<f64>,
+    /// The scale; `None`: measured from the ring.
+    pub px_per_mm: Option<f64>,
+    pub body: BodyMm,
+}
+
+/// Frames looked through for the four marks before giving up.
+pub const ACQUIRE_FRAMES: u64 = 60;
+
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {kind}", path.display())]
+pub struct FilmError {
+    pub path: PathBuf,
+    pub kind: FilmErrorKind,
+}
+
+impl FilmError {
+    pub fn new(path: &Path, kind: FilmErrorKind) -> FilmError {
+        FilmError { path: path.to_path_buf(), kind }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum FilmErrorKind {
+    #[error(
+        "ffmpeg and ffprobe are needed to read a video and were not found on PATH (Debian: apt-get install ffmpeg)"
+    )]
+    NoFfmpeg,
+    #[error("not a video ffmpeg can read: {0}")]
+    NotAVideo(String),
+    #[error("{0}")]
+    Io(String),
+    #[error("a folder without frames: no PNG, JPEG or TIFF files in it")]
+    NoFrames,
+    #[error("cannot read this frame: {0}")]
+    BadFrame(String),
+    #[error("the film is cut off: {decoded} frames decoded{}{}", expected.map(|n| format!(" of the {n} its header announces")).unwrap_or_default(), if said.is_empty() { String::new() } else { format!(" (ffmpeg: {said})") })]
+    CutOff { decoded: u64, expected: Option<u64>, said: String },
+    #[error("the frame rate is not known (a folder of frames does not say it): give --fps")]
+    NeedsFps,
+    #[error(
+        "no four marks found in frames {first}..{last} (looked for {style} marks): check --marks, --roi and the body's size, or that the marks are in view"
+    )]
+    NoMarks { first: u64, last: u64, style: &'static str },
+    #[error("fewer than two usable frames (both marks of an opposite pair found): {usable}")]
+    TooFewUsable { usable: usize },
+    #[error("--from-frame {from} is beyond the film's {frames} frames")]
+    StartBeyondEnd { from: u64, frames: u64 },
+    #[error(
+        "the scale cannot be measured from the ring (fewer than 3 frames with all four marks): give --px-per-mm"
+    )]
+    NoScale,
+    #[error("{0}")]
+    Options(String),
+    #[error("cancelled")]
+    Cancelled,
+}
+
+/// What the tracking did, for the terminal and the JSON.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TrackReport {
+    pub style: MarkStyle,
+    pub frames: usize,
+    pub width_px: usize,
+    pub height_px: usize,
+    pub fps: f64,
+    /// The first frame where the four marks were found.
+    pub acquired_at: u64,
+    pub marks_found: usize,
+    /// Marks left out because their identity was ambiguous.
+    pub left_out_ambiguous: usize,
+    /// Times the ring was lost and found again.
+    pub reacquired: usize,
+    /// Median standard error of the centres from the pixels' noise, per mark (px, per
+    /// coordinate); `None` for a mark never found.
+    pub centre_sigma_px: [Option<f64>; 4],
+    /// The scale from the ring (also where `--px-per-mm` was given, as a check).
+    pub ring_scale: Option<RingScale>,
+    /// The scale written: given, or from the ring.
+    pub px_per_mm: f64,
+    pub notes: Vec<String>,
+}
+
+/// A film tracked: the recording, the centres' errors per frame and mark, the report.
+#[derive(Clone, Debug)]
+pub struct TrackedFilm {
+    pub recording: Recording,
+    pub sigma: Vec<[Option<f64>; 4]>,
+    pub report: TrackReport,
+}
+
+fn semi_major_range(opts: &TrackOptions, info: &FilmInfo) -> (f64, f64) {
+    let r = mark_radius_mm(&opts.body);
+    match opts.px_per_mm {
+        Some(s) => (0.6 * r * s, 1.6 * r * s),
+        None => (3.0, info.width.min(info.height) as f64 / 2.0),
+    }
+}
+
+fn mark_radius_mm(body: &BodyMm) -> f64 {
+    let w = body.thickness_mm.unwrap_or(body.outer_radius_mm);
+    match crate::physics::Body::new(body.shape, body.outer_radius_mm, body.width_mm, w) {
+        Ok(b) => mark_radius(&b),
+        Err(_) => body.outer_radius_mm,
+    }
+}
+
+/// Tracks a film (a video file or a folder of frames): see the module's stages.
+/// `progress(done, total)` after each frame; `cancel` is looked at between frames.
+pub fn track(
+    path: &Path,
+    opts: &TrackOptions,
+    progress: &mut dyn FnMut(u64, Option<u64>),
+    cancel: &AtomicBool,
+) -> Result<TrackedFilm, FilmError> {
+    let err = |kind| FilmError::new(path, kind);
+    let mut source = FilmSource::open(path)?;
+    let info = source.info().clone();
+    let fps = opts.fps.or(info.fps).ok_or(err(FilmErrorKind::NeedsFps))?;
+    if let (Some(to), from) = (opts.to_frame, opts.from_frame)
+        && to < from
+    {
+        return Err(err(FilmErrorKind::Options(format!(
+            "--to-frame {to} comes before --from-frame {from}"
+        ))));
+    }
+    let skipped = source.skip(opts.from_frame)?;
+    if skipped < opts.from_frame {
+        return Err(err(FilmErrorKind::StartBeyondEnd { from: opts.from_frame, frames: skipped }));
+    }
+    let total = match (info.frames, opts.to_frame) {
+        (_, Some(to)) => Some(to + 1 - opts.from_frame),
+        (Some(n), None) => Some(n.saturating_sub(opts.from_frame)),
+        _ => None,
+    };
+    let roi = opts.roi.unwrap_or(Roi::whole(&info));
+    let range = semi_major_range(opts, &info);
+
+    let mut frames: Vec<FrameMarks> = Vec::new();
+    let mut sigma: Vec<[Option<f64>; 4]> = Vec::new();
+    let mut frame = Frame::default();
+    let mut follower: Option<follow::Follower> = None;
+    let mut style = opts.style;
+    let mut acquired_at = None;
+    let mut ambiguous = 0usize;
+    let mut index = opts.from_frame;
+    loop {
+        if opts.to_frame.is_some_and(|to| index > to) {
+            break;
+        }
+        if cancel.load(Ordering::Relaxed) {
+            return Err(err(FilmErrorKind::Cancelled));
+        }
+        if !source.next_frame(&mut frame)? {
+            break;
+        }
+        let result = match follower.as_mut() {
+            None => {
+                if index - opts.from_frame >= ACQUIRE_FRAMES {
+                    return Err(err(FilmErrorKind::NoMarks {
+                        first: opts.from_frame,
+                        last: index - 1,
+                        style: opts.style.name(),
+                    }));
+                }
+                match find::find_marks(&frame, &roi, style, range) {
+                    Some((s, found)) => {
+                        style = s;
+                        let f = follow::Follower::new(style, &found, &frame, index, roi, range);
+                        acquired_at = Some(index);
+                        let first =
+                            follow::FrameResult { marks: f.last_positions(), ..Default::default() };
+                        follower = Some(f);
+                        first
+                    }
+                    None => follow::FrameResult::default(),
+                }
+            }
+            Some(f) => f.step(&frame, index),
+        };
+        ambiguous += result.ambiguous;
+        frames.push(result.marks);
+        sigma.push(result.sigma);
+        index += 1;
+        progress(index - opts.from_frame, total);
+    }
+    let reacquired = follower.as_ref().map_or(0, |f| f.refound);
+    assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, ambiguous, reacquired)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    path: &Path,
+    opts: &TrackOptions,
+    info: &FilmInfo,
+    fps: f64,
+    style: MarkStyle,
+    acquired_at: Option<u64>,
+    frames: Vec<FrameMarks>,
+    sigma: Vec<[Option<f64>; 4]>,
+    ambiguous: usize,
+    reacquired: usize,
+) -> Result<TrackedFilm, FilmError> {
+    let err = |kind| FilmError::new(path, kind);
+    let Some(acquired_at) = acquired_at else {
+        return Err(err(FilmErrorKind::NoMarks {
+            first: opts.from_frame,
+            last: opts.from_frame + frames.len().saturating_sub(1) as u64,
+            style: opts.style.name(),
+        }));
+    };
+    let usable = frames.iter().filter(|f| is_usable(f)).count();
+    if usable < 2 {
+        return Err(err(FilmErrorKind::TooFewUsable { usable }));
+    }
+    let body = &opts.body;
+    let ring_scale =
+        scale::ring_scale(&frames, mark_radius_mm(body), body.outer_radius_mm, body.width_mm);
+    let mut notes = Vec::new();
+    let px_per_mm = match (opts.px_per_mm, &ring_scale) {
+        (Some(s), Some(rs)) => {
+            let off = rs.px_per_mm / s - 1.0;
+            if off.abs() > 0.03 {
+                notes.push(format!(
+                    "the ring measures {:.4} px/mm, {:+.1}% from the --px-per-mm given: check the body's size",
+                    rs.px_per_mm,
+                    100.0 * off
+                ));
+            }
+            s
+        }
+        (Some(s), None) => s,
+        (None, Some(rs)) => rs.px_per_mm,
+        (None, None) => return Err(err(FilmErrorKind::NoScale)),
+    };
+    if let Some(rs) = &ring_scale
+        && rs.camera_is_near()
+    {
+        notes.push(format!(
+            "the scale grows by {:.2}% per mm of the marks' height: a camera about {:.0} mm away; {:.4} px/mm holds {:.1} mm above the table, not at it (give --px-per-mm for the table's)",
+            100.0 * rs.growth_per_mm,
+            1.0 / rs.growth_per_mm,
+            rs.px_per_mm,
+            rs.height_mm
+        ));
+    }
+    let mut per_mark: [Vec<f64>; 4] = Default::default();
+    for s in &sigma {
+        for k in 0..4 {
+            if let Some(v) = s[k] {
+                per_mark[k].push(v);
+            }
+        }
+    }
+    let centre_sigma_px = per_mark.map(|mut v| {
+        (!v.is_empty()).then(|| {
+            v.sort_by(|a, b| a.total_cmp(b));
+            v[v.len() / 2]
+        })
+    });
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut extra = vec![
+        ("tracked_from".to_string(), name),
+        ("tracked_marks".to_string(), style.name().to_string()),
+    ];
+    if let Some(s) = centre_sigma_px.iter().flatten().copied().reduce(f64::max) {
+        extra.push(("tracker_sigma_px".to_string(), format!("{s:.3}")));
+    }
+    if opts.px_per_mm.is_none()
+        && let Some(rs) = &ring_scale
+    {
+        extra.push((
+            "px_per_mm_from".to_string(),
+            format!("ring, +-{:.4}, at {:.1} mm", rs.sigma, rs.height_mm),
+        ));
+    }
+    let header = Header {
+        fps,
+        px_per_mm,
+        shape: body.shape,
+        outer_radius_mm: body.outer_radius_mm,
+        width_mm: body.width_mm,
+        thickness_mm: if body.shape == Shape::Ring {
+            body.thickness_mm
+        } else {
+            body.thickness_mm.or(Some(body.outer_radius_mm))
+        },
+        image_width_px: Some(info.width as f64),
+        image_height_px: Some(info.height as f64),
+        camera_distance_mm: None,
+        camera_tilt_deg: None,
+        extra,
+    };
+    let marks_found = frames.iter().map(|f| f.iter().flatten().count()).sum();
+    let report = TrackReport {
+        style,
+        frames: frames.len(),
+        width_px: info.width,
+        height_px: info.height,
+        fps,
+        acquired_at,
+        marks_found,
+        left_out_ambiguous: ambiguous,
+        reacquired,
+        centre_sigma_px,
+        ring_scale,
+        px_per_mm,
+        notes,
+    };
+    let recording = Recording { header, first_frame: opts.from_frame, frames };
+    Ok(TrackedFilm { recording, sigma, report })
+}

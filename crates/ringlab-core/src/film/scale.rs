@@ -1,0 +1,118 @@
+//! The scale (px per mm) from the ring itself: its four marks lie 90 degrees apart on a circle
+//! of known radius (the mark circle of `recording::marks`), so in each frame where all four are
+//! found they are two conjugate semi-diameters of that circle's image, whose semi-major axis
+//! is the radius in pixels. For a camera far away that holds at every height; a near one
+//! magnifies the marks, which ride above the table, so the figure is said with the height
+//! where it holds and how much it grew with the marks' height.
+
+use super::find::ellipse_axes;
+use crate::recording::FrameMarks;
+
+/// The scale measured from the marks.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RingScale {
+    pub px_per_mm: f64,
+    /// Its standard error (px per mm).
+    pub sigma: f64,
+    /// Frames it is measured over.
+    pub frames: usize,
+    /// The marks' mean height above the table (mm) over those frames: where it holds.
+    pub height_mm: f64,
+    /// The relative change of the scale per mm of the marks' height (0 for a far camera);
+    /// a camera `D` mm away gives about `1 / D`.
+    pub growth_per_mm: f64,
+    /// Its standard error.
+    pub growth_sigma: f64,
+}
+
+impl RingScale {
+    /// Whether the scale grows with the marks' height beyond its noise: a near camera.
+    pub fn camera_is_near(&self) -> bool {
+        self.growth_per_mm > 4.0 * self.growth_sigma && self.growth_per_mm > 2e-4
+    }
+}
+
+/// The scale from the frames with all four marks. `mark_radius_mm`: the mark circle's radius;
+/// `outer_radius_mm` and `width_mm` give the top edge's height for each pose.
+pub fn ring_scale(
+    frames: &[FrameMarks],
+    mark_radius_mm: f64,
+    outer_radius_mm: f64,
+    width_mm: f64,
+) -> Option<RingScale> {
+    let mut s = Vec::new();
+    let mut z = Vec::new();
+    for f in frames {
+        let [Some(p1), Some(p2), Some(p3), Some(p4)] = *f else { continue };
+        let d1 = [(p1[0] - p3[0]) / 2.0, (p1[1] - p3[1]) / 2.0];
+        let d2 = [(p2[0] - p4[0]) / 2.0, (p2[1] - p4[1]) / 2.0];
+        let (a, b) = ellipse_axes(d1, d2);
+        if !(a > 0.0) {
+            continue;
+        }
+        // The ring's axis tilts theta from the table (b / a = sin theta); A is then
+        // h sin(theta) + R cos(theta) above it (`recording::marks`).
+        let sin_t = (b / a).min(1.0);
+        let cos_t = (1.0 - sin_t * sin_t).sqrt();
+        s.push(a / mark_radius_mm);
+        z.push(width_mm * sin_t + outer_radius_mm * cos_t);
+    }
+    let n = s.len();
+    if n < 3 {
+        return None;
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(|a, b| a.total_cmp(b));
+        v[v.len() / 2]
+    };
+    let px_per_mm = median(&mut s.clone());
+    let mut dev: Vec<f64> = s.iter().map(|v| (v - px_per_mm).abs()).collect();
+    let spread = 1.4826 * median(&mut dev);
+    // Straight line of the scale against the height, over the frames within 5 spreads.
+    let keep: Vec<usize> =
+        (0..n).filter(|&i| (s[i] - px_per_mm).abs() <= 5.0 * spread.max(1e-9)).collect();
+    let m = keep.len() as f64;
+    let (zm, sm) =
+        (keep.iter().map(|&i| z[i]).sum::<f64>() / m, keep.iter().map(|&i| s[i]).sum::<f64>() / m);
+    let szz: f64 = keep.iter().map(|&i| (z[i] - zm).powi(2)).sum();
+    let szs: f64 = keep.iter().map(|&i| (z[i] - zm) * (s[i] - sm)).sum();
+    let (slope, slope_sigma) = if szz > 0.0 && m > 3.0 {
+        let slope = szs / szz;
+        let rss: f64 = keep.iter().map(|&i| (s[i] - sm - slope * (z[i] - zm)).powi(2)).sum();
+        (slope, (rss / (m - 2.0) / szz).sqrt())
+    } else {
+        (0.0, f64::INFINITY)
+    };
+    // Frames a few apart share their errors (the marks' smooth bias): count every fifth.
+    let independent = (m / 5.0).max(1.0);
+    Some(RingScale {
+        px_per_mm,
+        sigma: spread / independent.sqrt(),
+        frames: n,
+        height_mm: zm,
+        growth_per_mm: slope / px_per_mm,
+        growth_sigma: slope_sigma / px_per_mm,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tilted_circle_gives_its_radius_in_pixels() {
+        // Radius 20 mm at 3 px/mm, axis tilted so that b/a = 0.6, turning over 50 frames.
+        let frames: Vec<FrameMarks> = (0..50)
+            .map(|i| {
+                let phase = i as f64 * 0.3;
+                std::array::from_fn(|k| {
+                    let a = phase + k as f64 * std::f64::consts::FRAC_PI_2;
+                    Some([300.0 + 60.0 * a.cos(), 200.0 + 36.0 * a.sin()])
+                })
+            })
+            .collect();
+        let s = ring_scale(&frames, 20.0, 20.5, 18.0).expect("scale");
+        assert!((s.px_per_mm - 3.0).abs() < 1e-9, "{s:?}");
+        assert!(!s.camera_is_near());
+    }
+}
