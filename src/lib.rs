@@ -8,7 +8,7 @@
 //! `ui`; `sim` and `session` know nothing of egui. `ARCHITECTURE.md` maps the crates, the
 //! threads and the data flow.
 
-pub use ringlab_core::{analysis, config, physics, plot, recording, report};
+pub use ringlab_core::{analysis, config, film, physics, plot, recording, report};
 
 pub mod export;
 pub mod render;

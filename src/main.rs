@@ -30,6 +30,8 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// Make a recording (format v1) from the model: marks, camera, noise, effects
     Synth(cli::synth::SynthArgs),
+    /// Find the four marks in a film (a video or a folder of frames) and write a recording
+    Track(cli::track::TrackArgs),
     /// Recover the motion from a recording: A, theta, psi, heading, v_p, turning points
     Recover(cli::recover::RecoverArgs),
     /// Write a lab tracker's files (DeepLabCut, Tracker, TrackMate, a plain CSV) as a recording
@@ -58,6 +60,7 @@ fn main() -> Result<()> {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),
         Some(Command::Sweep(a)) => cli::sweep::run(&a),
         Some(Command::Synth(a)) => cli::synth::run(&a),
+        Some(Command::Track(a)) => cli::track::run(&a),
         Some(Command::Recover(a)) => cli::recover::run(&a),
         Some(Command::Import(a)) => cli::import::run(&a),
         Some(Command::Fit(a)) => cli::fit::run(&a),

@@ -9,36 +9,15 @@
 //! and at most 0.05% of the pixels may fail (a handful of edge pixels). A real change (the
 //! ring moved, a trace missing, a label changed) changes thousands of pixels.
 
-use eframe::egui_wgpu;
+mod common;
+
+use common::drawing::{drawing_builder, snapshot_options};
 use egui_kittest::kittest::Queryable;
-use egui_kittest::{Harness, SnapshotOptions, wgpu::WgpuTestRenderer};
 use ringlab::config::load_preset;
 use ringlab::render::{Gpu, OrbitCamera, SceneRenderer};
 use ringlab::sim::Track;
 use ringlab::ui::palette::BODY_LINEAR;
 use ringlab::ui::{Mode, RinglabApp, Settings, scene, trace_panel};
-
-fn options(width: u32, height: u32) -> SnapshotOptions {
-    let pixels = (width * height) as usize;
-    SnapshotOptions::new().threshold(1.0).max_failed_pixels(pixels / 2000)
-}
-
-/// A harness builder drawing through wgpu with the scene renderer installed and egui set up
-/// for the adapter, as the window has them.
-fn builder<S>(width: u32, height: u32) -> egui_kittest::HarnessBuilder<S> {
-    let rs = egui_kittest::wgpu::create_render_state(
-        egui_kittest::wgpu::default_wgpu_setup(),
-        egui_wgpu::RendererOptions::PREDICTABLE,
-    );
-    ringlab::render::callback::install(&rs);
-    let adapter = rs.adapter.get_info();
-    Harness::builder()
-        .with_size([width as f32, height as f32])
-        // The app's theme (it sets it itself; a panel drawn alone needs it here).
-        .with_theme(eframe::egui::Theme::Light)
-        .with_context_setup(move |ctx| ringlab::ui::adapt_to_adapter(ctx, &adapter))
-        .renderer(WgpuTestRenderer::from_render_state(rs))
-}
 
 /// The window's background: the app leaves it to the clear colour (its panels are not
 /// filled), and the test renderer clears to transparent.
@@ -59,12 +38,12 @@ fn seconds(t: f64) -> f64 {
 fn app_snapshot(name: &str, settings: Settings, t: f64) {
     let (w, h) = (1480u32, 920u32);
     let mut app = RinglabApp::new(settings, Mode::Fixed { seconds: seconds(t) });
-    let mut harness = builder(w, h).build_ui(|ui| {
+    let mut harness = drawing_builder(w, h).build_ui(|ui| {
         background(ui);
         app.ui_root(ui)
     });
     harness.run_steps(3);
-    harness.snapshot_options(name, &options(w, h));
+    harness.snapshot_options(name, &snapshot_options(w, h));
 }
 
 #[test]
@@ -87,7 +66,7 @@ fn app_sample_recording_fitted() {
     app.open_recording(
         std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sample-ring.csv"),
     );
-    let mut harness = builder(w, h).build_ui_state(
+    let mut harness = drawing_builder(w, h).build_ui_state(
         |ui, app: &mut RinglabApp| {
             background(ui);
             app.ui_root(ui)
@@ -102,7 +81,7 @@ fn app_sample_recording_fitted() {
     assert_eq!(app.tracks()[0].case().model.c_drag, fit.c, "the simulator runs the fitted drag");
     harness.state_mut().seek_model_time(40.0);
     harness.run_steps(3);
-    harness.snapshot_options("app_sample_recording_fitted", &options(w, h));
+    harness.snapshot_options("app_sample_recording_fitted", &snapshot_options(w, h));
 }
 
 /// A recording with Reynolds-dependent drag concealed (the first seed of the diagnosis's
@@ -135,7 +114,7 @@ fn app_diagnosed_reynolds_drag() {
             .is_some_and(|d| d.improved.as_ref().is_ok_and(|c| *c == app.settings.case))
     );
     std::fs::remove_dir_all(&dir).ok();
-    let mut harness = builder(w, h).build_ui_state(
+    let mut harness = drawing_builder(w, h).build_ui_state(
         |ui, app: &mut RinglabApp| {
             background(ui);
             app.ui_root(ui)
@@ -144,7 +123,7 @@ fn app_diagnosed_reynolds_drag() {
     );
     harness.state_mut().player.seek(3.0);
     harness.run_steps(3);
-    harness.snapshot_options("app_diagnosed_reynolds_drag", &options(w, h));
+    harness.snapshot_options("app_diagnosed_reynolds_drag", &snapshot_options(w, h));
 }
 
 /// Presentation mode on a 1920x1080 projector: the UI at its presentation scale (1.5, so
@@ -155,14 +134,15 @@ fn app_presentation_paper_ring() {
     let (w, h) = (1920u32, 1080u32);
     let mut app = RinglabApp::new(Settings::default(), Mode::Fixed { seconds: seconds(60.0) });
     app.set_presentation(true);
-    let mut harness = builder(w, h).with_size([w as f32 / zoom, h as f32 / zoom]).build_ui(|ui| {
-        background(ui);
-        app.ui_root(ui)
-    });
+    let mut harness =
+        drawing_builder(w, h).with_size([w as f32 / zoom, h as f32 / zoom]).build_ui(|ui| {
+            background(ui);
+            app.ui_root(ui)
+        });
     harness.run_steps(3);
     assert_eq!(harness.ctx.zoom_factor(), zoom);
     assert!(harness.query_by_label("Model").is_none(), "the side panel is folded away");
-    harness.snapshot_options("app_presentation_paper_ring", &options(w, h));
+    harness.snapshot_options("app_presentation_paper_ring", &snapshot_options(w, h));
 }
 
 #[test]
@@ -174,7 +154,7 @@ fn scene_3d_paper_ring() {
     let frame = scene::scene_frame(&track, 40.0, &camera, true, true, BODY_LINEAR[0]);
     let (w, h) = (640, 360);
     let img = gpu.render_scene(&mut renderer, &frame, [w, h]).expect("renders");
-    egui_kittest::image_snapshot_options(&img, "scene_3d_paper_ring", &options(w, h));
+    egui_kittest::image_snapshot_options(&img, "scene_3d_paper_ring", &snapshot_options(w, h));
 }
 
 #[test]
@@ -182,7 +162,7 @@ fn trace_panel_paper_ring() {
     let track = paper_track("paper-ring");
     let (w, h) = (560u32, 480u32);
     let t = track.end().expect("ended").t_end;
-    let mut harness = builder(w, h).build_ui(|ui| {
+    let mut harness = drawing_builder(w, h).build_ui(|ui| {
         background(ui);
         eframe::egui::CentralPanel::default()
             .frame(eframe::egui::Frame::new().inner_margin(8))
@@ -198,7 +178,7 @@ fn trace_panel_paper_ring() {
             });
     });
     harness.run_steps(2);
-    harness.snapshot_options("trace_panel_paper_ring", &options(w, h));
+    harness.snapshot_options("trace_panel_paper_ring", &snapshot_options(w, h));
 }
 
 /// On lavapipe the app's egui shapes go to ringlab's lean painter (`shaders/ui.wgsl`) instead

@@ -22,7 +22,8 @@ pub struct ImportArgs {
     #[arg(long)]
     pub px_per_mm: Option<f64>,
     /// The four marks' names (bodyparts, track ids, point masses) in cyclic order round the rim
-    /// (default: the first four in the file)
+    /// (default: the first four in the file); for a film, what they look like: colours, dark,
+    /// bright or auto (default)
     #[arg(long, value_name = "A,B,C,D")]
     pub marks: Option<String>,
     /// DeepLabCut: points below this likelihood are missing marks
@@ -53,6 +54,8 @@ pub struct ImportArgs {
     /// Plain CSV: y grows upward
     #[arg(long)]
     pub y_up: bool,
+    #[command(flatten)]
+    pub film: super::track::FilmArgs,
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -154,9 +157,25 @@ pub fn load_one(
     args: &ImportArgs,
     file: &std::path::Path,
 ) -> Result<ringlab::recording::Recording> {
+    if ringlab::film::is_film(file) {
+        return load_film(args, file);
+    }
     let imported = args.load(&[file.to_path_buf()])?;
     for line in describe(&imported) {
         eprintln!("{line}");
     }
     Ok(imported.recording)
+}
+
+/// A film tracked first (`ringlab track`'s flags), what the tracking found said on stderr.
+pub fn load_film(
+    args: &ImportArgs,
+    file: &std::path::Path,
+) -> Result<ringlab::recording::Recording> {
+    let opts = super::track::options(args, &args.film)?;
+    let tracked = super::track::track_film(file, &opts)?;
+    for line in super::track::describe(&tracked) {
+        eprintln!("{line}");
+    }
+    Ok(tracked.recording)
 }

@@ -19,3 +19,4 @@ pub mod shard;
 pub mod simulate;
 pub mod sweep;
 pub mod synth;
+pub mod track;

@@ -7,6 +7,7 @@ pub mod csv;
 pub mod frames;
 pub mod gif;
 pub mod mp4;
+pub mod overlay;
 pub mod picture;
 pub mod session;
 pub mod video;

@@ -15,6 +15,8 @@ pub struct Diagnosed {
     /// model as the baseline when it names none).
     pub baseline: Result<CaseFile, String>,
     pub improved: Result<CaseFile, String>,
+    /// The two models' marks at every frame (a film's recording only: drawn over it).
+    pub model_marks: Option<[std::sync::Arc<super::ModelMarks>; 2]>,
 }
 
 impl Diagnosed {

@@ -1,5 +1,5 @@
-//! The desktop's file dialogs (rfd: File > Open recording, Open case, Save case, the exports),
-//! each on a thread of its own so that the window keeps drawing while it is open.
+//! The desktop's file dialogs (rfd: File > Open recording, Open video, Open case, Save case,
+//! the exports), each on a thread of its own so that the window keeps drawing while it is open.
 //!
 //! On Linux rfd asks the XDG desktop portal over D-Bus (libdbus, loaded at run time) and falls
 //! back to `zenity`; where neither is there it returns nothing, as it does when the user
@@ -112,19 +112,35 @@ pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome
     })
 }
 
-/// File > Open recording's dialog.
+/// File > Open recording's dialog (a film is taken too: it is tracked).
 pub fn pick_recording(background: bool) -> Job<DialogOutcome> {
+    let mut extensions: Vec<String> = ["csv", "trk", "txt", "tsv"].map(String::from).to_vec();
+    extensions.extend(VIDEO_FILTER.map(String::from));
     run_dialog(
         background,
         DialogRequest {
-            title: "Open a recording (format v1) or a tracker's file".into(),
-            filter: (
-                "recordings and trackers' files".into(),
-                ["csv", "trk", "txt", "tsv"].map(String::from).to_vec(),
-            ),
+            title: "Open a recording (format v1), a tracker's file or a film".into(),
+            filter: ("recordings, trackers' files and films".into(), extensions),
             save_as: None,
             folder: None,
             instead: "drop the .csv file onto the window instead".into(),
+        },
+    )
+}
+
+/// The videos File > Open video shows first.
+const VIDEO_FILTER: [&str; 4] = ["mp4", "mov", "avi", "mkv"];
+
+/// File > Open video's dialog.
+pub fn pick_video(background: bool) -> Job<DialogOutcome> {
+    run_dialog(
+        background,
+        DialogRequest {
+            title: "Open a film of a ring with four marks (its marks are tracked)".into(),
+            filter: ("videos".into(), VIDEO_FILTER.map(String::from).to_vec()),
+            save_as: None,
+            folder: None,
+            instead: "drop the video file onto the window instead".into(),
         },
     )
 }

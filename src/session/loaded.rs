@@ -1,6 +1,7 @@
 //! A recording read and its motion recovered, and the cases the simulator adopts from it
 //! (the model started from the data; the fitted model; the diagnosis's models).
 
+use super::film::FilmOrigin;
 use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::FitResult;
 use crate::config::{
@@ -22,6 +23,11 @@ pub enum LoadError {
     Read(#[from] ImportError),
     #[error("{}: {source}", path.display())]
     Recover { path: PathBuf, source: RecoverError },
+    /// A film that could not be tracked (the message names the file).
+    #[error("{0}")]
+    Film(String),
+    #[error("the tracking was cancelled")]
+    Cancelled,
 }
 
 /// A recording read and its motion recovered.
@@ -31,6 +37,8 @@ pub struct LoadedRecording {
     pub motion: RecoveredMotion,
     /// How the file was read (a tracker's file: its marks, what was dropped, notes).
     pub import: ImportReport,
+    /// The film it was tracked from, if it was.
+    pub film: Option<FilmOrigin>,
 }
 
 impl LoadedRecording {
@@ -55,6 +63,7 @@ impl LoadedRecording {
             recording: Arc::new(recording),
             motion,
             import: imported.report,
+            film: None,
         })
     }
 

@@ -12,11 +12,15 @@
 
 mod diagnosing;
 pub mod file_dialog;
+mod film;
+mod film_frames;
 mod fitting;
 pub mod job;
 mod loaded;
 
 pub use diagnosing::Diagnosed;
+pub use film::{FilmOrigin, ModelMarks, diagnosed_marks};
+pub use film_frames::FilmFrames;
 pub use fitting::describe_fit_progress;
 pub use loaded::{LoadError, LoadedRecording};
 
@@ -36,6 +40,8 @@ use std::sync::Arc;
 pub struct Fitted {
     pub result: FitResult,
     pub case: CaseFile,
+    /// The fitted model's marks at every frame (a film's recording only: drawn over it).
+    pub marks: Option<Arc<ModelMarks>>,
 }
 
 /// What the app should do after [`RecordingSession::poll`].
@@ -62,12 +68,17 @@ pub struct RecordingSession {
     loaded: Option<LoadedRecording>,
     loading: Option<(PathBuf, Job<Result<LoadedRecording, LoadError>>)>,
     dialog: Option<Job<DialogOutcome>>,
-    fitting: Option<Job<Result<FitResult, FitError>>>,
+    fitting: Option<Job<Result<(FitResult, Option<Arc<ModelMarks>>), FitError>>>,
     fitted: Option<Fitted>,
-    diagnosing: Option<Job<Result<Diagnosis, DiagnoseError>>>,
+    diagnosing: Option<Job<Result<(Diagnosis, Option<[Arc<ModelMarks>; 2]>), DiagnoseError>>>,
     diagnosed: Option<Diagnosed>,
     /// Seconds from the first stored frame to the model's t = 0.
     offset_s: f64,
+    /// A film's frames, where the recording was tracked from one.
+    film_frames: Option<FilmFrames>,
+    /// The model's marks drawn over a film: the fit's, the diagnosis's chosen model's once
+    /// diagnosed, or the model last put in the simulator.
+    model_marks: Option<Arc<ModelMarks>>,
     /// A problem to show until dismissed (a file that could not be read, a failed fit).
     pub error: Option<String>,
     /// Something to know that is no error (a cancelled fit, no dialog).
@@ -98,6 +109,8 @@ impl RecordingSession {
             diagnosing: None,
             diagnosed: None,
             offset_s: 0.0,
+            film_frames: None,
+            model_marks: None,
             error: None,
             note: None,
             import_options: ImportOptions::default(),
@@ -116,7 +129,14 @@ impl RecordingSession {
         self.import_format = format;
         self.import_options = options;
         if let Some(p) = self.pending_import.take() {
-            self.open(p.path);
+            if crate::film::is_film(&p.path) {
+                // A film's scale is measured from the ring: one given is taken where it cannot be.
+                let scale = p.error.kind == crate::recording::import::ImportErrorKind::MissingScale;
+                let px_per_mm = self.import_options.px_per_mm.filter(|_| scale);
+                self.open_film(p.path, px_per_mm);
+            } else {
+                self.open(p.path);
+            }
         }
     }
 
@@ -176,6 +196,7 @@ impl RecordingSession {
             || self.fitting.is_some()
             || self.dialog.is_some()
             || self.diagnosing.is_some()
+            || self.film_frames.as_ref().is_some_and(FilmFrames::busy)
     }
 
     /// Opens the file dialog (its answer arrives through [`RecordingSession::poll`]).
@@ -189,6 +210,9 @@ impl RecordingSession {
     /// Starts reading `path` (the dialog's and drag-and-drop's way in). A fit of the previous
     /// recording is stopped; the previous recording stays until the new one is read.
     pub fn open(&mut self, path: PathBuf) {
+        if crate::film::is_film(&path) {
+            return self.open_film(path, None);
+        }
         self.error = None;
         self.note = None;
         self.pending_import = None;
@@ -208,6 +232,8 @@ impl RecordingSession {
         self.loading = None;
         self.note = None;
         self.offset_s = 0.0;
+        self.film_frames = None;
+        self.model_marks = None;
     }
 
     /// Starts a fit of the loaded recording (none while one runs).
@@ -219,8 +245,12 @@ impl RecordingSession {
         self.note = None;
         let rec = Arc::clone(&l.recording);
         let background = self.background;
-        self.fitting =
-            Some(Job::start("fit", background, move |ctx| run_fit(&rec, ctx, background)));
+        let film = l.film.is_some();
+        self.fitting = Some(Job::start("fit", background, move |ctx| {
+            let r = run_fit(&rec, ctx, background)?;
+            let marks = film.then(|| Arc::new(r.predicted_marks(&rec.frames)));
+            Ok((r, marks))
+        }));
     }
 
     /// Asks a running fit to stop.
@@ -239,8 +269,12 @@ impl RecordingSession {
         self.note = None;
         let rec = Arc::clone(&l.recording);
         let background = self.background;
+        let order = l.film.as_ref().map(|_| l.motion.mark_order);
         self.diagnosing = Some(Job::start("diagnose", background, move |ctx| {
-            run_diagnose(&rec, ctx, background)
+            let d = run_diagnose(&rec, ctx, background)?;
+            let marks =
+                order.map(|o| [&d.before, &d.after].map(|m| Arc::new(diagnosed_marks(&rec, o, m))));
+            Ok((d, marks))
         }));
     }
 
@@ -263,6 +297,10 @@ impl RecordingSession {
         match case {
             Ok(c) => {
                 self.offset_s = d.offset_s(l.recording.first_frame, l.fps());
+                let k = if which == DiagnosedModel::Baseline { 0 } else { 1 };
+                if let Some(m) = &d.model_marks {
+                    self.model_marks = Some(Arc::clone(&m[k]));
+                }
                 Some(SessionEvent::Fitted(c.clone()))
             }
             Err(e) => {
@@ -295,6 +333,12 @@ impl RecordingSession {
                 Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => {
                     self.pending_import = Some(PendingImport { path, error: e })
                 }
+                Ok(Err(LoadError::Cancelled)) => {
+                    self.note = Some("the tracking was cancelled".into())
+                }
+                Ok(Err(LoadError::Film(e))) => {
+                    self.error = Some(format!("Could not track the film: {e}"))
+                }
                 Ok(Err(e)) => self.error = Some(format!("Could not open the recording: {e}")),
                 Err(JobLost) => {
                     self.error = Some(format!(
@@ -307,7 +351,7 @@ impl RecordingSession {
         if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
             self.fitting = None;
             match done {
-                Ok(Ok(r)) => events.extend(self.adopt_fit(r)),
+                Ok(Ok((r, marks))) => events.extend(self.adopt_fit(r, marks)),
                 Ok(Err(FitError::Cancelled)) => self.note = Some("the fit was cancelled".into()),
                 Ok(Err(e)) => self.error = Some(format!("The fit failed: {e}")),
                 Err(JobLost) => self.error = Some("The fit stopped unexpectedly".into()),
@@ -316,11 +360,15 @@ impl RecordingSession {
         if let Some(done) = self.diagnosing.as_mut().and_then(|j| j.poll()) {
             self.diagnosing = None;
             match done {
-                Ok(Ok(d)) => {
+                Ok(Ok((d, model_marks))) => {
                     if let Some(l) = &self.loaded {
                         let baseline = l.diagnosed_case(&d.before);
                         let improved = l.diagnosed_case(&d.after);
-                        self.diagnosed = Some(Diagnosed { result: d, baseline, improved });
+                        if let Some(m) = &model_marks {
+                            self.model_marks = Some(Arc::clone(&m[1]));
+                        }
+                        self.diagnosed =
+                            Some(Diagnosed { result: d, baseline, improved, model_marks });
                     }
                 }
                 Ok(Err(DiagnoseError::Cancelled)) => {
@@ -329,6 +377,9 @@ impl RecordingSession {
                 Ok(Err(e)) => self.error = Some(format!("The diagnosis failed: {e}")),
                 Err(JobLost) => self.error = Some("The diagnosis stopped unexpectedly".into()),
             }
+        }
+        if let Some(f) = &mut self.film_frames {
+            f.poll();
         }
         events
     }
@@ -342,6 +393,7 @@ impl RecordingSession {
             self.loading.iter_mut().for_each(|(_, j)| j.finish());
             self.fitting.iter_mut().for_each(Job::finish);
             self.diagnosing.iter_mut().for_each(Job::finish);
+            self.film_frames.iter_mut().for_each(FilmFrames::finish);
             events.extend(self.poll());
         }
         events
@@ -352,6 +404,9 @@ impl RecordingSession {
         self.fitted = None;
         self.diagnosing = None;
         self.diagnosed = None;
+        self.model_marks = None;
+        self.film_frames =
+            l.film.as_ref().map(|f| FilmFrames::new(f.path.clone(), self.background));
         let start = l.start_case();
         let fps = l.fps();
         self.loaded = Some(l);
@@ -368,12 +423,13 @@ impl RecordingSession {
         }
     }
 
-    fn adopt_fit(&mut self, r: FitResult) -> Option<SessionEvent> {
+    fn adopt_fit(&mut self, r: FitResult, marks: Option<Arc<ModelMarks>>) -> Option<SessionEvent> {
         let l = self.loaded.as_ref()?;
         match l.fitted_case(&r) {
             Ok(case) => {
                 self.offset_s = r.start_t * r.units.time_s;
-                self.fitted = Some(Fitted { result: r, case: case.clone() });
+                self.model_marks = marks.clone();
+                self.fitted = Some(Fitted { result: r, case: case.clone(), marks });
                 Some(SessionEvent::Fitted(case))
             }
             Err(e) => {
@@ -387,6 +443,7 @@ impl RecordingSession {
     pub fn readopt_fit(&mut self) -> Option<SessionEvent> {
         let f = self.fitted.as_ref()?;
         self.offset_s = f.result.start_t * f.result.units.time_s;
+        self.model_marks = f.marks.clone();
         Some(SessionEvent::Fitted(f.case.clone()))
     }
 

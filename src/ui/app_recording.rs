@@ -12,7 +12,7 @@ use eframe::egui;
 
 impl RinglabApp {
     /// Opens a recording (the file dialog's and drag-and-drop's way in): read and recovered
-    /// off the UI thread, or at once in fixed mode.
+    /// off the UI thread, or at once in fixed mode. A film is tracked first.
     pub fn open_recording(&mut self, path: std::path::PathBuf) {
         self.recording.open(path);
         self.side_tab = SideTab::Recording;
@@ -88,6 +88,8 @@ impl RinglabApp {
         match action {
             A::None => {}
             A::Open => self.recording.open_dialog(),
+            A::OpenVideo => self.recording.open_video_dialog(),
+            A::CancelOpen => self.recording.cancel_loading(),
             A::Close => self.recording.close(),
             A::Fit => self.recording.start_fit(),
             A::CancelFit => self.recording.cancel_fit(),

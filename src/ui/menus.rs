@@ -53,6 +53,7 @@ pub fn file_menu_ui(
         let idle = !exports.dialog_open();
         let rec = |r| MenuAction::Recording(r);
         item(ui, !recording.dialog_open(), "Open recording…", "", "a recording of a ring's marks (format v1), or a tracker's file (DeepLabCut, Tracker, TrackMate, a plain CSV); or drop the file onto the window", rec(RecordingAction::Open), &mut a);
+        item(ui, !recording.dialog_open(), "Open video…", "", "a film of a ring with four marks (MP4, MOV, AVI, MKV: ffmpeg decodes it): its marks are tracked into a recording, and the film is shown with them drawn over it; the body is the import options' (asked for the first time)", rec(RecordingAction::OpenVideo), &mut a);
         item(ui, recording.loaded().is_some(), "Close recording", "", "forget the recording", rec(RecordingAction::Close), &mut a);
         ui.separator();
         let file = MenuAction::File;

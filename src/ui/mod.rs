@@ -4,6 +4,8 @@
 //! (File > Open recording, or dropped onto the window) is replayed beside the model and can be
 //! fitted ([`recording_panel`]; its state is a [`RecordingSession`]), and diagnosed
 //! ([`diagnose_panel`]: the mismatch shaded on the plots and the trace, the models adoptable).
+//! A film (File > Open video) is tracked into a recording and shown beside the 3D view with
+//! the marks and the model drawn over it (`film_view`).
 //! For the classroom: presentation mode ([`presentation`]), cases opened and saved, the run as
 //! CSV, pictures and videos ([`file_actions`], [`video_dialog`]; the work in
 //! [`crate::export`]).
@@ -16,6 +18,7 @@ pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
 pub use crate::render::lean_paint;
 mod app_recording;
 mod file_actions;
+mod film_view;
 pub mod menus;
 pub mod palette;
 mod panels;
@@ -144,6 +147,8 @@ pub struct RinglabApp {
     gpu: Option<Arc<Gpu>>,
     /// The 3D view's size on the screen in pixels (the size of its picture).
     view_px: [u32; 2],
+    /// The film's picture, where the recording was tracked from one.
+    film_view: film_view::FilmView,
 }
 
 impl RinglabApp {
@@ -170,6 +175,7 @@ impl RinglabApp {
             screenshot: None,
             gpu: None,
             view_px: [1280, 720],
+            film_view: film_view::FilmView::default(),
         };
         app.player.set_speed(app.settings.speed);
         // What the last tracker's file needed is used again (fields that no longer parse are
@@ -496,6 +502,14 @@ impl RinglabApp {
             .default_size(traces_width)
             .resizable(false)
             .show(ui, |ui| self.traces_panel_ui(ui));
+        if self.recording.film().is_some() {
+            let width = self.film_panel_width(ui.available_size());
+            egui::Panel::left("film")
+                .frame(side)
+                .exact_size(width)
+                .resizable(false)
+                .show(ui, |ui| self.film_panel_ui(ui));
+        }
         egui::CentralPanel::default()
             .frame(egui::Frame::new().inner_margin(4))
             .show(ui, |ui| self.view_panel_ui(ui));

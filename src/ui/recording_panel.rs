@@ -14,6 +14,10 @@ use eframe::egui::{self, Color32, RichText};
 pub enum RecordingAction {
     None,
     Open,
+    /// File > Open video: a film to track.
+    OpenVideo,
+    /// Stop tracking a film (or reading a file).
+    CancelOpen,
     Close,
     Fit,
     CancelFit,
@@ -58,14 +62,22 @@ pub fn recording_panel_ui(
 ) -> RecordingAction {
     let mut action = RecordingAction::None;
     if let Some(p) = session.loading() {
+        let progress = session.loading_progress().filter(|p| !p.text.is_empty());
         ui.horizontal(|ui| {
             ui.spinner();
-            ui.label(format!("reading {}", p.display()));
+            let what = if crate::film::is_film(p) { "tracking" } else { "reading" };
+            ui.label(format!("{what} {}", p.display()));
         });
+        if let Some(p) = progress {
+            ui.add(egui::ProgressBar::new(p.fraction).text(RichText::new(p.text).small()));
+            if ui.button("Cancel").on_hover_text("stop tracking the film").clicked() {
+                action = RecordingAction::CancelOpen;
+            }
+        }
     }
     let Some(l) = session.loaded() else {
         ui.label("No recording loaded.");
-        ui.label(RichText::new("File > Open recording…, or drop a recording (format v1, or a DeepLabCut, Tracker or TrackMate file) onto the window.").small());
+        ui.label(RichText::new("File > Open recording…, or drop a recording (format v1, or a DeepLabCut, Tracker or TrackMate file) onto the window; File > Open video… tracks a film's four marks.").small());
         if ui.add_enabled(!session.dialog_open(), egui::Button::new("Open recording…")).clicked()
         {
             action = RecordingAction::Open;
@@ -132,6 +144,15 @@ fn row(ui: &mut egui::Ui, key: &str, value: String) {
     ui.end_row();
 }
 
+/// A number as a file gives it, or to 6 decimals where it has more (a scale measured from
+/// the ring of a film).
+fn short_number(x: f64) -> String {
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    // Exact, or too small for 6 decimals: as it is.
+    if s.parse::<f64>().is_ok_and(|v| v == x || v == 0.0) { x.to_string() } else { s.to_string() }
+}
+
 /// What the file says and what the recovery found.
 fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
     let h = &l.recording.header;
@@ -171,7 +192,7 @@ fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
                 h.width_mm
             ),
         );
-        row(ui, "scale", format!("{} px/mm", h.px_per_mm));
+        row(ui, "scale", format!("{} px/mm", short_number(h.px_per_mm)));
         row(
             ui,
             "pixel noise",
@@ -264,8 +285,21 @@ pub fn drop_hint_ui(ctx: &egui::Context) {
     painter.text(
         screen.center(),
         egui::Align2::CENTER_CENTER,
-        "Drop a recording (format v1, .csv) to open it",
+        "Drop a recording (format v1, .csv) or a film (.mp4) to open it",
         egui::FontId::proportional(26.0),
         Color32::WHITE,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_number;
+
+    #[test]
+    fn numbers_as_given_or_to_six_decimals() {
+        assert_eq!(short_number(3.2), "3.2");
+        assert_eq!(short_number(12.0), "12");
+        assert_eq!(short_number(3.363243426806742), "3.363243");
+        assert_eq!(short_number(1e-9), "0.000000001");
+    }
 }

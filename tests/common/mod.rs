@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 #[path = "../../crates/ringlab-core/tests/common/mod.rs"]
 mod data;
+pub mod drawing;
 #[allow(unused_imports)]
 pub use data::test_data;
 use std::process::{Command, Output};

@@ -39,6 +39,11 @@ pub struct Follower {
     polarity: Polarity,
     /// Dots: the disc (px) the centroid is taken over.
     disc: f64,
+    /// Dots: the discs tried beside it, and the running sum of the marks' parallelogram gap
+    /// squared that each gives (the smallest error is the disc to use: `error`).
+    discs: [f64; DISCS],
+    disc_gaps: [f64; DISCS],
+    disc_frames: usize,
     marks: [MarkState; 4],
     /// A (the marks' centre) by frame, newest last.
     centres: Vec<(u64, [f64; 2])>,
@@ -52,6 +57,13 @@ pub struct Follower {
 }
 
 const HISTORY: usize = 4;
+/// Discs tried: the dot's radius as first measured plus these (px). The parallelogram's gap
+/// cannot see an error common to the four marks (the light's side darkens each dot alike), and
+/// a disc inside the dot's blurred edge has one: none is tried inside it.
+const DISC_MARGINS: [f64; DISCS] = [0.25, 0.75, 1.25, 1.75, 2.5];
+const DISCS: usize = 5;
+/// Frames of the running sums' memory.
+const DISC_MEMORY: f64 = 100.0;
 
 fn angle_between(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(std::f64::consts::TAU);
@@ -89,8 +101,17 @@ impl Follower {
         let disc = if style == MarkStyle::Colours {
             0.0
         } else {
-            measure_dot(frame, polarity, &found.marks[0], found.dot_radius) + 1.0
+            // The four are alike: the middle of their sizes, past a neighbour that widens one.
+            let mut r: Vec<f64> = found
+                .marks
+                .iter()
+                .map(|m| measure_dot(frame, polarity, m, found.dot_radius))
+                .collect();
+            r.sort_by(|a, b| a.total_cmp(b));
+            (r[1] + r[2]) / 2.0
         };
+        let discs = DISC_MARGINS.map(|m| disc + m);
+        let disc = discs[1];
         let marks = found.marks.map(|c| MarkState {
             history: vec![(index, [c.x, c.y])],
             strength: 0.0,
@@ -110,6 +131,9 @@ impl Follower {
             style,
             polarity,
             disc,
+            discs,
+            disc_gaps: [0.0; DISCS],
+            disc_frames: 0,
             marks,
             centres: Vec::new(),
             roi,
@@ -152,6 +176,35 @@ impl Follower {
         self.disc
     }
 
+    /// Dots: each disc tried on the four marks found, its parallelogram gap added to its
+    /// running sum; the disc with the smallest sum is taken from then on.
+    fn choose_disc(&mut self, frame: &Frame, marks: &FrameMarks) {
+        if self.style == MarkStyle::Colours {
+            return;
+        }
+        let [Some(a), Some(b), Some(c), Some(d)] = *marks else { return };
+        let l = frame.luma_plane();
+        let keep = 1.0 - 1.0 / DISC_MEMORY;
+        for (i, &disc) in self.discs.iter().enumerate() {
+            let at = |p: [f64; 2]| dot_centre(&l, self.polarity, p[0], p[1], disc, 3.0);
+            let gap = match (at(a), at(b), at(c), at(d)) {
+                (Some(a), Some(b), Some(c), Some(d)) => {
+                    ((a.x + c.x - b.x - d.x) / 2.0).powi(2)
+                        + ((a.y + c.y - b.y - d.y) / 2.0).powi(2)
+                }
+                _ => 100.0,
+            };
+            self.disc_gaps[i] = keep * self.disc_gaps[i] + gap;
+        }
+        self.disc_frames += 1;
+        if self.disc_frames >= 10 {
+            let best = (0..DISCS)
+                .min_by(|&i, &j| self.disc_gaps[i].total_cmp(&self.disc_gaps[j]))
+                .expect("discs");
+            self.disc = self.discs[best];
+        }
+    }
+
     /// Whether mark `k` was found in the two frames before `index` (its motion is known).
     fn moving(&self, k: usize, index: u64) -> bool {
         let h = &self.marks[k].history;
@@ -177,9 +230,26 @@ impl Follower {
             let r = 2.0 * self.size + 30.0;
             Roi { x: (cx - r).max(0.0), y: (cy - r).max(0.0), width: 2.0 * r, height: 2.0 * r }
         };
-        let range = if self.size > 0.0 { (0.6 * self.size, 1.6 * self.size) } else { self.range };
+        let range = if self.size > 0.0 { (0.75 * self.size, 1.33 * self.size) } else { self.range };
         let known = if self.style == MarkStyle::Colours { 0.0 } else { (self.disc - 1.0).max(1.0) };
         let (_, found) = find_marks_sized(frame, &roi, self.style, range, known)?;
+        // Four found anew must sit where the ring was: its centre moves far less than its size
+        // in the few frames it was lost.
+        if !last.is_empty() {
+            let n = last.len() as f64;
+            let was = [
+                last.iter().map(|p| p.1[0]).sum::<f64>() / n,
+                last.iter().map(|p| p.1[1]).sum::<f64>() / n,
+            ];
+            let now = [
+                found.marks.iter().map(|m| m.x).sum::<f64>() / 4.0,
+                found.marks.iter().map(|m| m.y).sum::<f64>() / 4.0,
+            ];
+            let reach = if last.len() == 4 { 0.5 } else { 1.2 } * self.size + 10.0;
+            if (was[0] - now[0]).hypot(was[1] - now[1]) > reach {
+                return None;
+            }
+        }
         let cost = |rot: usize| -> f64 {
             let mut s = 0.0;
             for k in 0..4 {
@@ -379,12 +449,21 @@ impl Follower {
     /// One frame: the marks found in it.
     pub fn step(&mut self, frame: &Frame, index: u64) -> FrameResult {
         let mut found: [Option<Centre>; 4] = [None; 4];
-        if (0..4).filter(|&k| self.moving(k, index)).count() < 3 {
-            // Motion not known well enough to predict: the four found anew near the ring.
+        if (0..4).filter(|&k| self.moving(k, index)).count() < 2 {
+            // Motion not known well enough to predict: the four found anew near the ring,
+            // kept only where each lies within reach of where a mark still followed predicts it.
             if let Some(again) = self.find_again(frame, index) {
-                self.refound += 1;
-                for k in 0..4 {
-                    found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
+                let agrees = (0..4).all(|k| {
+                    self.predict(k, index).is_none_or(|(p, gate)| {
+                        !self.moving(k, index)
+                            || (again.marks[k].x - p[0]).hypot(again.marks[k].y - p[1]) <= gate
+                    })
+                });
+                if agrees {
+                    self.refound += 1;
+                    for k in 0..4 {
+                        found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
+                    }
                 }
             }
         }
@@ -405,6 +484,31 @@ impl Follower {
                 let p = [a.x + c.x - b.x, a.y + c.y - b.y];
                 let size = (a.x - c.x).hypot(a.y - c.y);
                 found[k] = self.look(frame, k, p, (0.08 * size + 3.0).min(10.0));
+            }
+        }
+        // Four points 90 degrees apart on a circle make a parallelogram (nearly, through a
+        // near camera): one mark far off it was taken from something else. Which one: the
+        // farthest from where it was predicted; with no prediction, none of the four stands.
+        if let [Some(a), Some(b), Some(c), Some(d)] = found {
+            let gap = ((a.x + c.x - b.x - d.x) / 2.0).hypot((a.y + c.y - b.y - d.y) / 2.0);
+            let size = super::find::ellipse_axes(
+                [(a.x - c.x) / 2.0, (a.y - c.y) / 2.0],
+                [(b.x - d.x) / 2.0, (b.y - d.y) / 2.0],
+            )
+            .0;
+            if gap > 0.06 * size + 1.5 {
+                let off = |k: usize| {
+                    let f = found[k].expect("all four");
+                    self.predict(k, index).map(|(p, _)| (f.x - p[0]).hypot(f.y - p[1]))
+                };
+                let offs: Option<Vec<f64>> = (0..4).map(off).collect();
+                match offs {
+                    Some(o) => {
+                        let worst = (0..4).max_by(|&i, &j| o[i].total_cmp(&o[j])).expect("four");
+                        found[worst] = None;
+                    }
+                    None => found = [None; 4],
+                }
             }
         }
         // Two marks in one place: neither can be trusted.
@@ -437,6 +541,7 @@ impl Follower {
                 m.strength = 0.9 * m.strength + 0.1 * c.strength;
             }
         }
+        self.choose_disc(frame, &out.marks);
         if let Some(a) = centre_of(&out.marks) {
             self.centres.push((index, a));
             if self.centres.len() > HISTORY {
@@ -447,30 +552,52 @@ impl Follower {
     }
 }
 
-/// A dot's radius (px): the area where its contrast passes half its depth, as a disc.
+/// A dot's radius (px): in each of 16 directions from its centre, where its contrast falls
+/// to half its depth; the median of those, so that a dark neighbour on one side (the rim's
+/// inner wall, its shadow) does not widen it.
 fn measure_dot(frame: &Frame, polarity: Polarity, c: &super::find::Candidate, guess: f64) -> f64 {
     let l = frame.luma_plane();
     let r = (guess * 3.0).ceil() as i64 + 2;
     let (xi, yi) = (c.x.round() as i64, c.y.round() as i64);
-    if !l.holds(xi, yi, r) {
+    if !l.holds(xi, yi, r + 1) {
         return guess;
     }
     let mut ring = Vec::new();
-    let mut values = Vec::new();
     for j in yi - r..=yi + r {
         for i in xi - r..=xi + r {
             let d = ((i - xi).pow(2) + (j - yi).pow(2)) as f64;
-            let v = l.at(i as usize, j as usize);
             if d > (r as f64 - 1.5).powi(2) && d <= (r * r) as f64 {
-                ring.push(v);
-            } else if d <= (2.0 * guess).powi(2) {
-                values.push(v);
+                ring.push(l.at(i as usize, j as usize));
             }
         }
     }
     ring.sort_by(|a, b| a.total_cmp(b));
     let bg = ring[ring.len() / 2];
-    let depth = values.iter().map(|&v| polarity.signal(bg, v)).fold(0.0, f64::max);
-    let area = values.iter().filter(|&&v| polarity.signal(bg, v) > depth / 2.0).count() as f64;
-    (area / std::f64::consts::PI).sqrt().clamp(1.0, 3.0 * guess)
+    let bilinear = |x: f64, y: f64| {
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (i, j) = (x0 as usize, y0 as usize);
+        l.at(i, j) * (1.0 - fx) * (1.0 - fy)
+            + l.at(i + 1, j) * fx * (1.0 - fy)
+            + l.at(i, j + 1) * (1.0 - fx) * fy
+            + l.at(i + 1, j + 1) * fx * fy
+    };
+    let depth = polarity.signal(bg, bilinear(c.x, c.y));
+    if !(depth > 0.0) {
+        return guess;
+    }
+    let mut radii: Vec<f64> = (0..16)
+        .map(|k| {
+            let (s, co) = (k as f64 * std::f64::consts::TAU / 16.0).sin_cos();
+            let mut t = 0.0;
+            while t < r as f64 - 0.5
+                && polarity.signal(bg, bilinear(c.x + t * co, c.y + t * s)) > depth / 2.0
+            {
+                t += 0.25;
+            }
+            t
+        })
+        .collect();
+    radii.sort_by(|a, b| a.total_cmp(b));
+    ((radii[7] + radii[8]) / 2.0).clamp(1.0, 3.0 * guess)
 }

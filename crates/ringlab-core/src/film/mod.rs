@@ -7,6 +7,7 @@
 //! found, left out, and the centres' error.
 
 pub mod centre;
+pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
@@ -117,6 +118,10 @@ pub struct TrackOptions {
     pub body: BodyMm,
 }
 
+/// The header key of the tracker's own estimate of a centre's error (px per coordinate): the
+/// noise estimate of the tracks (`recording::tracks`) takes it where it is larger.
+pub const TRACKER_SIGMA_KEY: &str = "tracker_sigma_px";
+
 /// Frames looked through for the four marks before giving up.
 pub const ACQUIRE_FRAMES: u64 = 60;
 
@@ -187,6 +192,9 @@ pub struct TrackReport {
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
+    /// The error of one centre per coordinate from the marks' parallelogram (`error`), noise
+    /// and the error that turns with the ring together; `None` where a near camera breaks it.
+    pub tracker_sigma_px: Option<f64>,
     /// The scale from the ring (also where `--px-per-mm` was given, as a check).
     pub ring_scale: Option<RingScale>,
     /// The scale written: given, or from the ring.
@@ -327,8 +335,14 @@ fn assemble(
         return Err(err(FilmErrorKind::TooFewUsable { usable }));
     }
     let body = &opts.body;
-    let ring_scale =
-        scale::ring_scale(&frames, mark_radius_mm(body), body.outer_radius_mm, body.width_mm);
+    let centre = [info.width as f64 / 2.0, info.height as f64 / 2.0];
+    let ring_scale = scale::ring_scale(
+        &frames,
+        mark_radius_mm(body),
+        body.outer_radius_mm,
+        body.width_mm,
+        centre,
+    );
     let mut notes = Vec::new();
     let px_per_mm = match (opts.px_per_mm, &ring_scale) {
         (Some(s), Some(rs)) => {
@@ -343,19 +357,24 @@ fn assemble(
             s
         }
         (Some(s), None) => s,
-        (None, Some(rs)) => rs.px_per_mm,
+        (None, Some(rs)) => rs.table.map_or(rs.px_per_mm, |t| t.px_per_mm),
         (None, None) => return Err(err(FilmErrorKind::NoScale)),
     };
     if let Some(rs) = &ring_scale
         && rs.camera_is_near()
     {
-        notes.push(format!(
-            "the scale grows by {:.2}% per mm of the marks' height: a camera about {:.0} mm away; {:.4} px/mm holds {:.1} mm above the table, not at it (give --px-per-mm for the table's)",
-            100.0 * rs.growth_per_mm,
-            1.0 / rs.growth_per_mm,
-            rs.px_per_mm,
-            rs.height_mm
-        ));
+        notes.push(match rs.table {
+            Some(t) => format!(
+                "a near camera (the marks' scale grows with their height): about {:.0} mm away; the table's scale under the image centre, {:.4} +- {:.4} px/mm, fitted with it (the marks' own, {:.4} px/mm, holds {:.1} mm above the table)",
+                t.camera_distance_mm, t.px_per_mm, t.sigma, rs.px_per_mm, rs.height_mm
+            ),
+            None => format!(
+                "a near camera (the scale grows {:.2}% per mm of the marks' height) whose distance could not be fitted: {:.4} px/mm holds {:.1} mm above the table, not at it (give --px-per-mm for the table's)",
+                100.0 * rs.growth_per_mm,
+                rs.px_per_mm,
+                rs.height_mm
+            ),
+        });
     }
     let mut per_mark: [Vec<f64>; 4] = Default::default();
     for s in &sigma {
@@ -371,13 +390,29 @@ fn assemble(
             v[v.len() / 2]
         })
     });
+    let near = ring_scale.as_ref().is_some_and(RingScale::camera_is_near);
+    let tracker_sigma_px = if near { None } else { error::closure_sigma(&frames) };
+    // Each centre's error: its own noise and the share of the closure beyond the noise.
+    let mut sigma = sigma;
+    if let Some(total) = tracker_sigma_px {
+        let noise: Vec<f64> = sigma.iter().flatten().flatten().copied().collect();
+        let mean_var = noise.iter().map(|s| s * s).sum::<f64>() / noise.len().max(1) as f64;
+        let beyond = (total * total - mean_var).max(0.0);
+        for s in sigma.iter_mut().flatten().flatten() {
+            *s = (*s * *s + beyond).sqrt();
+        }
+    } else if near {
+        notes.push(
+            "a near camera: the marks' parallelogram cannot check the centres' error, so the error said is the pixels' noise alone".into(),
+        );
+    }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut extra = vec![
         ("tracked_from".to_string(), name),
         ("tracked_marks".to_string(), style.name().to_string()),
     ];
-    if let Some(s) = centre_sigma_px.iter().flatten().copied().reduce(f64::max) {
-        extra.push(("tracker_sigma_px".to_string(), format!("{s:.3}")));
+    if let Some(s) = tracker_sigma_px {
+        extra.push((TRACKER_SIGMA_KEY.to_string(), format!("{s:.3}")));
     }
     if opts.px_per_mm.is_none()
         && let Some(rs) = &ring_scale
@@ -416,6 +451,7 @@ fn assemble(
         left_out_ambiguous: ambiguous,
         reacquired,
         centre_sigma_px,
+        tracker_sigma_px,
         ring_scale,
         px_per_mm,
         notes,

@@ -1,9 +1,11 @@
 //! The scale (px per mm) from the ring itself: its four marks lie 90 degrees apart on a circle
 //! of known radius (the mark circle of `recording::marks`), so in each frame where all four are
 //! found they are two conjugate semi-diameters of that circle's image, whose semi-major axis
-//! is the radius in pixels. For a camera far away that holds at every height; a near one
-//! magnifies the marks, which ride above the table, so the figure is said with the height
-//! where it holds and how much it grew with the marks' height.
+//! is the radius in pixels. For a camera far away that holds at every height. A near one
+//! magnifies what rides higher (a pinhole at distance `D`: `D / (D - z)`), and a tilted one
+//! what lies on its far side: there the inverse of each frame's scale is fitted to second order
+//! in the marks' height and the ring's place in the image, and its value at the table under
+//! the image centre is the scale; `D` follows from the height's term.
 
 use super::find::ellipse_axes;
 use crate::recording::FrameMarks;
@@ -23,6 +25,16 @@ pub struct RingScale {
     pub growth_per_mm: f64,
     /// Its standard error.
     pub growth_sigma: f64,
+    /// A near camera: the scale at the table under the image centre (px per mm), its standard
+    /// error and the camera's distance (mm) from the second-order fit.
+    pub table: Option<TableScale>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TableScale {
+    pub px_per_mm: f64,
+    pub sigma: f64,
+    pub camera_distance_mm: f64,
 }
 
 impl RingScale {
@@ -39,9 +51,11 @@ pub fn ring_scale(
     mark_radius_mm: f64,
     outer_radius_mm: f64,
     width_mm: f64,
+    image_centre: [f64; 2],
 ) -> Option<RingScale> {
     let mut s = Vec::new();
     let mut z = Vec::new();
+    let mut at = Vec::new();
     for f in frames {
         let [Some(p1), Some(p2), Some(p3), Some(p4)] = *f else { continue };
         let d1 = [(p1[0] - p3[0]) / 2.0, (p1[1] - p3[1]) / 2.0];
@@ -56,6 +70,10 @@ pub fn ring_scale(
         let cos_t = (1.0 - sin_t * sin_t).sqrt();
         s.push(a / mark_radius_mm);
         z.push(width_mm * sin_t + outer_radius_mm * cos_t);
+        at.push([
+            (p1[0] + p2[0] + p3[0] + p4[0]) / 4.0 - image_centre[0],
+            (p1[1] + p2[1] + p3[1] + p4[1]) / 4.0 - image_centre[1],
+        ]);
     }
     let n = s.len();
     if n < 3 {
@@ -85,13 +103,57 @@ pub fn ring_scale(
     };
     // Frames a few apart share their errors (the marks' smooth bias): count every fifth.
     let independent = (m / 5.0).max(1.0);
-    Some(RingScale {
+    let mut scale = RingScale {
         px_per_mm,
         sigma: spread / independent.sqrt(),
         frames: n,
         height_mm: zm,
         growth_per_mm: slope / px_per_mm,
         growth_sigma: slope_sigma / px_per_mm,
+        table: None,
+    };
+    if scale.camera_is_near() {
+        let rows: Vec<(f64, f64, [f64; 2])> = keep.iter().map(|&i| (s[i], z[i], at[i])).collect();
+        scale.table = table_scale(&rows, independent);
+    }
+    Some(scale)
+}
+
+/// `1 / scale` against 1, z, x, y, zx, zy, x^2, y^2, xy by least squares (x, y in units of
+/// 100 px about the image centre); the scale at the table under the centre is `1 / c0`, and
+/// `D / (D - z)` to first order gives `D = -c0 / c_z`.
+fn table_scale(rows: &[(f64, f64, [f64; 2])], independent: f64) -> Option<TableScale> {
+    const N: usize = 9;
+    let terms = |z: f64, p: [f64; 2]| {
+        let (x, y) = (p[0] / 100.0, p[1] / 100.0);
+        [1.0, z, x, y, z * x, z * y, x * x, y * y, x * y]
+    };
+    let mut ata = nalgebra::SMatrix::<f64, N, N>::zeros();
+    let mut atb = nalgebra::SVector::<f64, N>::zeros();
+    for &(s, z, p) in rows {
+        let t = nalgebra::SVector::<f64, N>::from(terms(z, p));
+        ata += t * t.transpose();
+        atb += t / s;
+    }
+    let inv = ata.try_inverse()?;
+    let c = inv * atb;
+    let rss: f64 = rows
+        .iter()
+        .map(|&(s, z, p)| {
+            (1.0 / s - nalgebra::SVector::<f64, N>::from(terms(z, p)).dot(&c)).powi(2)
+        })
+        .sum();
+    let var = rss / (rows.len() as f64 - N as f64).max(1.0);
+    // Correlated frames: the variance as if `independent` frames had been fitted.
+    let c0_sigma = (inv[(0, 0)] * var * rows.len() as f64 / independent).sqrt();
+    let (c0, cz) = (c[0], c[1]);
+    if !(c0 > 0.0 && cz < 0.0) {
+        return None;
+    }
+    Some(TableScale {
+        px_per_mm: 1.0 / c0,
+        sigma: c0_sigma / (c0 * c0),
+        camera_distance_mm: -c0 / cz,
     })
 }
 
@@ -111,7 +173,7 @@ mod tests {
                 })
             })
             .collect();
-        let s = ring_scale(&frames, 20.0, 20.5, 18.0).expect("scale");
+        let s = ring_scale(&frames, 20.0, 20.5, 18.0, [320.0, 240.0]).expect("scale");
         assert!((s.px_per_mm - 3.0).abs() < 1e-9, "{s:?}");
         assert!(!s.camera_is_near());
     }

@@ -17,14 +17,31 @@ pub struct CheckedTracks {
 /// Finds the glitches (with the noise of all the positions; it is robust to them), leaves them
 /// out, and estimates the noise again without them.
 pub fn check_tracks(rec: &Recording) -> CheckedTracks {
-    let first = track_noise(&rec.frames, &|_, _| false);
+    let first = with_tracker_floor(track_noise(&rec.frames, &|_, _| false), rec);
     let glitches = first.map_or_else(Vec::new, |n| find_glitches(&rec.frames, n.px));
     if glitches.is_empty() {
         return CheckedTracks { recording: rec.clone(), glitches, noise: first };
     }
     let frames = without_glitches(&rec.frames, &glitches);
-    let noise = track_noise(&frames, &|_, _| false).or(first);
+    let noise = with_tracker_floor(track_noise(&frames, &|_, _| false), rec).or(first);
     CheckedTracks { recording: Recording { frames, ..rec.clone() }, glitches, noise }
+}
+
+/// The tracker's own estimate of a centre's error (the header's `tracker_sigma_px`, written
+/// by `ringlab track`), where it is larger than what the tracks' differences read: an error
+/// that turns with the ring is smooth in time, and the differences miss it.
+fn with_tracker_floor(noise: Option<NoiseEstimate>, rec: &Recording) -> Option<NoiseEstimate> {
+    let floor = rec
+        .header
+        .extra
+        .iter()
+        .find(|(k, _)| k == crate::film::TRACKER_SIGMA_KEY)
+        .and_then(|(_, v)| v.parse::<f64>().ok())
+        .filter(|v| v.is_finite() && *v > 0.0);
+    match (noise, floor) {
+        (Some(n), Some(f)) if f > n.px => Some(NoiseEstimate { px: f, ..n }),
+        (n, _) => n,
+    }
 }
 
 /// `tracks` with `more` glitches left out too, and the noise estimated again without them.
@@ -33,7 +50,8 @@ pub fn with_more_glitches(tracks: &CheckedTracks, more: &[Glitch]) -> CheckedTra
         return tracks.clone();
     }
     let frames = without_glitches(&tracks.recording.frames, more);
-    let noise = track_noise(&frames, &|_, _| false).or(tracks.noise);
+    let noise =
+        with_tracker_floor(track_noise(&frames, &|_, _| false), &tracks.recording).or(tracks.noise);
     let mut glitches: Vec<Glitch> = tracks.glitches.iter().chain(more).copied().collect();
     glitches.sort_by_key(|g| (g.frame, g.mark));
     CheckedTracks { recording: Recording { frames, ..tracks.recording.clone() }, glitches, noise }
@@ -44,6 +62,6 @@ pub fn as_tracked(rec: &Recording) -> CheckedTracks {
     CheckedTracks {
         recording: rec.clone(),
         glitches: Vec::new(),
-        noise: track_noise(&rec.frames, &|_, _| false),
+        noise: with_tracker_floor(track_noise(&rec.frames, &|_, _| false), rec),
     }
 }

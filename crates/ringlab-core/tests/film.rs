@@ -1,0 +1,323 @@
+//! Films tracked (`film::track`): 240 frames (150 of the flickering one) from the middle of each
+//! shared film (`tests/data/video/*-mid.mp4`, cut at a key frame from the films of a renderer
+//! written apart from ringlab) and the opening of one (`colours-none-short.mp4`), against their
+//! marks' true centres; a folder of frames, the scale from the ring, and every way a film can
+//! be bad.
+//! Needs ffmpeg and ffprobe on PATH (the README's test command installs them).
+
+mod common;
+
+use common::test_data;
+use ringlab_core::film::{FilmErrorKind, MarkStyle, TrackOptions, TrackedFilm, track};
+use ringlab_core::physics::Shape;
+use ringlab_core::recording::import::BodyMm;
+use ringlab_core::recording::{FrameMarks, read_recording};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+fn steel_ring() -> BodyMm {
+    BodyMm { shape: Shape::Ring, outer_radius_mm: 20.66, width_mm: 18.0, thickness_mm: Some(1.0) }
+}
+
+fn aluminium_disk() -> BodyMm {
+    BodyMm { shape: Shape::Disk, outer_radius_mm: 31.75, width_mm: 6.14, thickness_mm: None }
+}
+
+fn options(body: BodyMm) -> TrackOptions {
+    TrackOptions {
+        style: MarkStyle::Auto,
+        roi: None,
+        from_frame: 0,
+        to_frame: None,
+        fps: None,
+        px_per_mm: None,
+        body,
+    }
+}
+
+fn run(path: &Path, opts: &TrackOptions) -> Result<TrackedFilm, ringlab_core::film::FilmError> {
+    track(path, opts, &mut |_, _| {}, &AtomicBool::new(false))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ringlab-film-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Tracked against true marks as `compare_tracks.py` judges them: the numbering (start and
+/// direction round the ring) that fits best, then the RMS distance, the share of the visible
+/// marks found, and the marks more than 3 px off (a swap puts a mark tens of px off).
+struct Comparison {
+    rms: f64,
+    found: f64,
+    far: usize,
+    extra: usize,
+}
+
+fn compare(tracked: &[FrameMarks], truth: &[FrameMarks]) -> Comparison {
+    let n = tracked.len().min(truth.len());
+    let labellings: Vec<[usize; 4]> = (0..4)
+        .flat_map(|r| {
+            [1i64, -1]
+                .map(|d| std::array::from_fn(|i| (r as i64 + d * i as i64).rem_euclid(4) as usize))
+        })
+        .collect();
+    let errors = |perm: &[usize; 4]| -> Vec<f64> {
+        (0..n)
+            .flat_map(|i| {
+                (0..4).filter_map(move |j| {
+                    let (t, m) = (truth[i][j]?, tracked[i][perm[j]]?);
+                    Some((t[0] - m[0]).hypot(t[1] - m[1]))
+                })
+            })
+            .collect()
+    };
+    let median = |mut e: Vec<f64>| {
+        e.sort_by(|a, b| a.total_cmp(b));
+        e.get(e.len() / 2).copied().unwrap_or(f64::INFINITY)
+    };
+    let best = labellings
+        .iter()
+        .min_by(|a, b| median(errors(a)).total_cmp(&median(errors(b))))
+        .expect("labellings");
+    let e = errors(best);
+    let visible: usize = truth[..n].iter().map(|f| f.iter().flatten().count()).sum();
+    let extra = (0..n)
+        .map(|i| (0..4).filter(|&j| truth[i][j].is_none() && tracked[i][best[j]].is_some()).count())
+        .sum();
+    Comparison {
+        rms: (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt(),
+        found: e.len() as f64 / visible as f64,
+        far: e.iter().filter(|&&x| x > 3.0).count(),
+        extra,
+    }
+}
+
+/// Marks more than 3 px off allowed: none in a short stretch; a swap puts every later mark off.
+fn max_far(_frames: usize) -> usize {
+    0
+}
+
+fn check_film(name: &str, body: BodyMm, max_rms: f64) -> TrackedFilm {
+    let t = run(&test_data(&format!("video/{name}.mp4")), &options(body)).expect("tracks");
+    let truth = read_recording(&test_data(&format!("video/{name}.truth.csv"))).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert!(c.rms < max_rms, "{name}: rms {:.3} px", c.rms);
+    assert!(c.found >= 0.98, "{name}: found {:.1}%", 100.0 * c.found);
+    assert!(
+        c.far <= max_far(t.recording.frames.len()),
+        "{name}: {} marks more than 3 px off (a swap?)",
+        c.far
+    );
+    assert_eq!(c.extra, 0, "{name}: marks reported where the rim hides them");
+    assert_eq!(t.recording.frames.len(), truth.frames.len(), "{name}: every frame");
+    t
+}
+
+#[test]
+fn coloured_marks_are_tracked_within_the_goal_and_named_by_their_hue() {
+    let t = check_film("colours-none-mid", steel_ring(), 0.7);
+    assert_eq!(t.report.style, MarkStyle::Colours);
+    assert_eq!(t.recording.header.fps, 300.0);
+    assert_eq!(t.recording.header.image_width_px, Some(1280.0));
+    let from =
+        t.recording.header.extra.iter().find(|(k, _)| k == "tracked_from").map(|(_, v)| v.as_str());
+    assert_eq!(from, Some("colours-none-mid.mp4"));
+}
+
+/// The first frames, where the ring spins fastest and stands nearly on edge, smear a mark
+/// along the rim: the opening is looser than the film as a whole.
+#[test]
+fn the_opening_of_a_film_is_tracked_from_its_first_frame() {
+    let t =
+        run(&test_data("video/colours-none-short.mp4"), &options(steel_ring())).expect("tracks");
+    let truth = read_recording(&test_data("video/colours-none-short.truth.csv")).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert_eq!(t.report.acquired_at, 0);
+    assert!(
+        c.rms < 1.0 && c.found >= 0.98 && c.extra == 0,
+        "rms {:.3}, found {:.3}",
+        c.rms,
+        c.found
+    );
+    // Off by more than 3 px only in the first few frames, never after.
+    let late: Vec<FrameMarks> = t.recording.frames[10..].to_vec();
+    assert_eq!(compare(&late, &truth.frames[10..]).far, 0);
+}
+
+#[test]
+fn dark_dots_seen_by_a_near_tilted_camera_are_tracked_within_the_goal() {
+    let t = check_film("dark-perspective-mid", steel_ring(), 0.7);
+    assert_eq!(t.report.style, MarkStyle::Dark);
+}
+
+#[test]
+fn blurred_flickering_colours_are_tracked_within_the_goal() {
+    check_film("colours-reynolds-flicker-mid", steel_ring(), 0.7);
+}
+
+#[test]
+fn dots_on_a_disk_are_tracked_within_the_goal() {
+    check_film("disk-dark-none-mid", aluminium_disk(), 0.7);
+}
+
+#[test]
+fn the_scale_from_the_ring_is_within_a_percent_for_a_far_camera() {
+    for (name, body, truth) in [
+        ("colours-none-mid", steel_ring(), 3.364764),
+        ("disk-dark-none-mid", aluminium_disk(), 5.0),
+    ] {
+        let t = run(&test_data(&format!("video/{name}.mp4")), &options(body)).expect("tracks");
+        let s = t.report.ring_scale.as_ref().expect("a scale");
+        assert!(
+            (s.px_per_mm / truth - 1.0).abs() < 0.01,
+            "{name}: {} against {truth}",
+            s.px_per_mm
+        );
+        assert!(s.table.is_none(), "{name}: a far camera");
+        assert_eq!(t.recording.header.px_per_mm, s.px_per_mm);
+        let sigma = t.report.tracker_sigma_px.expect("the marks' parallelogram checks the error");
+        assert!(sigma > 0.05 && sigma < 0.5, "{name}: {sigma}");
+    }
+}
+
+#[test]
+fn a_near_camera_is_told_and_its_table_scale_fitted_with_its_distance() {
+    let t =
+        run(&test_data("video/dark-perspective-mid.mp4"), &options(steel_ring())).expect("tracks");
+    let s = t.report.ring_scale.as_ref().expect("a scale");
+    assert!(s.camera_is_near(), "{s:?}");
+    // The marks ride 18-27 mm above the table, 400 mm below the camera: 5-7% magnified.
+    assert!(s.px_per_mm / 3.364764 > 1.04, "{s:?}");
+    let table = s.table.expect("the table's scale fitted");
+    assert!(
+        (table.px_per_mm / 3.364764 - 1.0).abs() < 3.0 * table.sigma / 3.364764 + 0.01,
+        "{table:?}"
+    );
+    assert_eq!(t.recording.header.px_per_mm, table.px_per_mm);
+}
+
+#[test]
+fn a_given_scale_is_written_and_checked_against_the_ring() {
+    let mut o = options(steel_ring());
+    o.px_per_mm = Some(3.0);
+    let t = run(&test_data("video/colours-none-short.mp4"), &o).expect("tracks");
+    assert_eq!(t.recording.header.px_per_mm, 3.0);
+    assert!(
+        t.report.notes.iter().any(|n| n.contains("from the --px-per-mm given")),
+        "{:?}",
+        t.report.notes
+    );
+}
+
+fn ffmpeg(args: &[&str]) {
+    let ok = std::process::Command::new("ffmpeg")
+        .args(["-v", "error", "-y"])
+        .args(args)
+        .status()
+        .expect("ffmpeg runs")
+        .success();
+    assert!(ok, "ffmpeg {args:?}");
+}
+
+#[test]
+fn a_folder_of_frames_tracks_as_the_video_does() {
+    let d = temp_dir("folder");
+    let film = test_data("video/colours-none-mid.mp4");
+    let pattern = d.join("frame_%d.png");
+    ffmpeg(&[
+        "-i",
+        film.to_str().expect("utf-8"),
+        "-frames:v",
+        "40",
+        pattern.to_str().expect("utf-8"),
+    ]);
+    // Without a frame rate a folder says nothing of time.
+    let e = run(&d, &options(steel_ring())).expect_err("no fps");
+    assert!(matches!(e.kind, FilmErrorKind::NeedsFps), "{e}");
+    let mut o = options(steel_ring());
+    o.fps = Some(300.0);
+    o.px_per_mm = Some(3.364764);
+    let t = run(&d, &o).expect("tracks");
+    assert_eq!(t.recording.frames.len(), 40, "frame_10 after frame_9");
+    let truth = read_recording(&test_data("video/colours-none-mid.truth.csv")).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames[..40]);
+    // Frames as RGB give each chroma sample from its 2x2 block again, as the encoder did.
+    assert!(c.rms < 0.7 && c.found >= 0.98 && c.far == 0, "rms {:.3}, found {:.3}", c.rms, c.found);
+}
+
+#[test]
+fn frames_from_to_and_a_region_of_interest_are_kept_to() {
+    let mut o = options(steel_ring());
+    o.from_frame = 100;
+    o.to_frame = Some(159);
+    let t = run(&test_data("video/colours-none-short.mp4"), &o).expect("tracks");
+    assert_eq!(t.recording.first_frame, 100);
+    assert_eq!(t.recording.frames.len(), 60);
+    // A region far from the ring: nothing to find there.
+    let mut o = options(steel_ring());
+    o.roi = Some(ringlab_core::film::Roi { x: 1000.0, y: 800.0, width: 200.0, height: 200.0 });
+    let e = run(&test_data("video/colours-none-short.mp4"), &o).expect_err("no marks there");
+    assert!(matches!(e.kind, FilmErrorKind::NoMarks { .. }), "{e}");
+}
+
+#[test]
+fn bad_films_are_errors_that_name_the_file_and_what_is_wrong() {
+    let d = temp_dir("bad");
+    // Not a video.
+    let text = d.join("notes.mp4");
+    std::fs::write(&text, "these are not frames").expect("writes");
+    let e = run(&text, &options(steel_ring())).expect_err("not a video");
+    assert!(matches!(e.kind, FilmErrorKind::NotAVideo(_)), "{e}");
+    assert!(e.to_string().contains("notes.mp4"), "{e}");
+    // A folder without frames.
+    let empty = d.join("empty");
+    std::fs::create_dir_all(&empty).expect("dir");
+    std::fs::write(empty.join("readme.txt"), "no frames").expect("writes");
+    let e = run(&empty, &options(steel_ring())).expect_err("no frames");
+    assert!(matches!(e.kind, FilmErrorKind::NoFrames), "{e}");
+    // A film cut off mid-stream: its header announces more frames than it holds.
+    let whole = std::fs::read(test_data("video/colours-none-short.mp4")).expect("reads");
+    let cut = d.join("cut.mp4");
+    std::fs::write(&cut, &whole[..whole.len() * 2 / 3]).expect("writes");
+    let e = run(&cut, &options(steel_ring())).expect_err("cut off");
+    assert!(matches!(e.kind, FilmErrorKind::CutOff { .. } | FilmErrorKind::NotAVideo(_)), "{e}");
+    assert!(e.to_string().contains("cut.mp4"), "{e}");
+    // No marks in the first frames: a plain grey film.
+    let grey = d.join("grey.mp4");
+    ffmpeg(&[
+        "-f",
+        "lavfi",
+        "-i",
+        "color=c=gray:s=320x240:r=30:d=3",
+        "-pix_fmt",
+        "yuv420p",
+        grey.to_str().expect("utf-8"),
+    ]);
+    let e = run(&grey, &options(steel_ring())).expect_err("no marks");
+    assert!(matches!(e.kind, FilmErrorKind::NoMarks { .. }), "{e}");
+    // Fewer than two usable frames.
+    let mut o = options(steel_ring());
+    o.to_frame = Some(0);
+    let e = run(&test_data("video/colours-none-short.mp4"), &o).expect_err("one frame");
+    assert!(matches!(e.kind, FilmErrorKind::TooFewUsable { usable: 1 }), "{e}");
+    // A start beyond the end.
+    let mut o = options(steel_ring());
+    o.from_frame = 5000;
+    let e = run(&test_data("video/colours-none-short.mp4"), &o).expect_err("beyond");
+    assert!(matches!(e.kind, FilmErrorKind::StartBeyondEnd { .. }), "{e}");
+}
+
+#[test]
+fn a_cancel_ends_the_tracking_with_nothing() {
+    let e = track(
+        &test_data("video/colours-none-short.mp4"),
+        &options(steel_ring()),
+        &mut |_, _| {},
+        &AtomicBool::new(true),
+    )
+    .expect_err("cancelled");
+    assert!(matches!(e.kind, FilmErrorKind::Cancelled), "{e}");
+}
