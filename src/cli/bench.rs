@@ -37,9 +37,16 @@ pub struct BenchArgs {
     /// Measure the recording side instead: reader (100,000 frames), recovery, fit of a recording
     #[arg(long)]
     pub recording: bool,
-    /// The recording to fit with --recording
-    #[arg(long, value_name = "FILE.csv", default_value = "../shared/data/sample-ring.csv")]
+    /// The recording to fit with --recording (default: the repository's copy of the sample)
+    #[arg(long, value_name = "FILE.csv", default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/sample-ring.csv"))]
     pub sample: std::path::PathBuf,
+    /// Measure the tracking of a film instead: decoding and tracking, tracked again until
+    /// 2,000 frames have passed, and the memory it held
+    #[arg(long)]
+    pub track: bool,
+    /// The film for --track (default: the repository's cut of a shared film, 1280x1024)
+    #[arg(long, value_name = "VIDEO", default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/video/colours-none-mid.mp4"))]
+    pub film: std::path::PathBuf,
     /// With --recording: leave out the fit
     #[arg(long)]
     pub skip_fit: bool,
@@ -90,6 +97,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.track {
+        return super::bench_track::run(&args.film, args.json);
+    }
     if args.recording {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
         return pool.install(|| {

@@ -157,11 +157,7 @@ fn diagnose_file(
     file: &Path,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<Diagnosis> {
-    let imported = args.import.load(&[file.to_path_buf()])?;
-    for line in super::import_args::describe(&imported) {
-        eprintln!("{line}");
-    }
-    let rec = imported.recording;
+    let rec = super::import_args::load_one(&args.import, file)?;
     let cancel = AtomicBool::new(false);
     let d =
         with_threads(args.threads, || diagnose(&rec, opts, &|p| progress(p.fraction), &cancel))?
