@@ -236,7 +236,7 @@ pub fn write_overlay_film(
 ) -> Result<()> {
     let cancel = interrupt_flag();
     let bar = LateBar::new(COUNT_TEMPLATE);
-    let overlay = ringlab::export::overlay::Overlay { tracked: rec, model };
+    let overlay = ringlab::session::overlay::Overlay { tracked: rec, model };
     let r =
         ringlab::export::overlay::write_overlay(film, opts, &overlay, out, &cancel, &mut |i, n| {
             if i.is_multiple_of(16) {

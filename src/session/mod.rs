@@ -17,6 +17,7 @@ mod film_frames;
 mod fitting;
 pub mod job;
 mod loaded;
+pub mod overlay;
 
 pub use diagnosing::Diagnosed;
 pub use film::{FilmOrigin, ModelMarks, diagnosed_marks};

@@ -1,11 +1,11 @@
 //! The film a recording was tracked from, in a panel beside the 3D view: the frame at the time
 //! scrubber's time with the tracked marks and the path of A drawn over it, and once fitted or
-//! diagnosed the model's marks and path ([`crate::export::overlay::Overlay`]). The session
+//! diagnosed the model's marks and path ([`crate::session::overlay::Overlay`]). The session
 //! decodes the frames (off the UI thread in the live window); the picture is made here when
 //! the frame, the model or the size on the screen changes, and kept as an egui texture.
 
 use super::RinglabApp;
-use crate::export::overlay::{Overlay, frame_image};
+use crate::session::overlay::{Overlay, frame_image};
 use crate::film::Frame;
 use crate::recording::Recording;
 use crate::session::ModelMarks;

@@ -392,6 +392,13 @@ fn assemble(
     });
     let near = ring_scale.as_ref().is_some_and(RingScale::camera_is_near);
     let tracker_sigma_px = if near { None } else { error::closure_sigma(&frames) };
+    // The scale's own spread over the frames misses a bias the four centres share (each
+    // pulled out or in from A by its neighbourhood alike): one centre's error over the
+    // marks' radius bounds it.
+    let mut ring_scale = ring_scale;
+    if let (Some(rs), Some(e)) = (ring_scale.as_mut(), tracker_sigma_px) {
+        rs.sigma = rs.sigma.hypot(e / mark_radius_mm(body));
+    }
     // Each centre's error: its own noise and the share of the closure beyond the noise.
     let mut sigma = sigma;
     if let Some(total) = tracker_sigma_px {
