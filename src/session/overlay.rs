@@ -110,4 +110,3 @@ pub fn frame_image(frame: &Frame) -> RgbaImage {
     RgbaImage::from_raw(frame.width as u32, frame.height as u32, frame.to_rgba())
         .unwrap_or_else(|| RgbaImage::from_pixel(1, 1, Rgba([0, 0, 0, 255])))
 }
-

@@ -5,10 +5,10 @@
 //! the frame, the model or the size on the screen changes, and kept as an egui texture.
 
 use super::RinglabApp;
-use crate::session::overlay::{Overlay, frame_image};
 use crate::film::Frame;
 use crate::recording::Recording;
 use crate::session::ModelMarks;
+use crate::session::overlay::{Overlay, frame_image};
 use eframe::egui::{self, RichText};
 use image::RgbaImage;
 use image::imageops::{FilterType, resize};
