@@ -178,3 +178,31 @@ fn a_diagnosed_film_draws_the_diagnosis_model() {
         d.result.after.rms_px
     );
 }
+
+/// File > Export film with overlay: the film the recording was tracked from, as an MP4 of as
+/// many frames, with the marks drawn over it.
+#[test]
+fn the_film_is_exported_with_its_overlay() {
+    if !have_ffmpeg() {
+        return;
+    }
+    let mut app = app();
+    app.recording.open_film(film(), None);
+    app.finish_recording_jobs();
+    let frames = app.recording.loaded().expect("loaded").frames().len();
+    let dir = std::env::temp_dir().join(format!("ringlab-film-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = dir.join("overlay");
+    app.file_chosen(ringlab::export::session::FileTask::FilmOverlay, out.clone());
+    let said = app.exports.wait();
+    assert!(said.iter().all(Result::is_ok), "{said:?}");
+    let out = out.with_extension("mp4");
+    let probe = std::process::Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-show_entries", "stream=nb_read_frames"])
+        .args(["-of", "csv=p=0"])
+        .arg(&out)
+        .output()
+        .expect("ffprobe runs");
+    assert_eq!(String::from_utf8_lossy(&probe.stdout).trim(), frames.to_string());
+    std::fs::remove_dir_all(&dir).ok();
+}

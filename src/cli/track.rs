@@ -237,12 +237,12 @@ pub fn write_overlay_film(
     let cancel = interrupt_flag();
     let bar = LateBar::new(COUNT_TEMPLATE);
     let overlay = ringlab::session::overlay::Overlay { tracked: rec, model };
-    let r =
-        ringlab::export::overlay::write_overlay(film, opts, &overlay, out, &cancel, &mut |i, n| {
-            if i.is_multiple_of(16) {
-                bar.update(i as u64, n as u64, "overlay".into());
-            }
-        });
+    let r = ringlab::export::overlay::write_overlay(film, opts, &overlay, out, &mut |i, n| {
+        if i.is_multiple_of(16) {
+            bar.update(i as u64, n as u64, "overlay".into());
+        }
+        !cancel.load(std::sync::atomic::Ordering::Relaxed)
+    });
     bar.finish();
     Ok(r?)
 }

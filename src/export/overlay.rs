@@ -7,17 +7,16 @@ use super::video::FrameSink;
 use crate::film::{FilmSource, Frame, TrackOptions};
 use crate::session::overlay::{Overlay, frame_image};
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Writes the film from `opts.from_frame` over the tracked frames with the overlay, as MP4
-/// at the film's own frame rate. A cancelled or failed export leaves no file.
+/// at the film's own frame rate; `progress(done, total)` after each frame, `false` to cancel.
+/// A cancelled or failed export leaves no file.
 pub fn write_overlay(
     film: &Path,
     opts: &TrackOptions,
     overlay: &Overlay<'_>,
     out: &Path,
-    cancel: &AtomicBool,
-    progress: &mut dyn FnMut(usize, usize),
+    progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<(), ExportError> {
     let mut source = FilmSource::open(film).map_err(|e| ExportError::Invalid(e.to_string()))?;
     source.skip(opts.from_frame).map_err(|e| ExportError::Invalid(e.to_string()))?;
@@ -28,10 +27,6 @@ pub fn write_overlay(
     let mut frame = Frame::default();
     let n = overlay.tracked.frames.len();
     for i in 0..n {
-        if cancel.load(Ordering::Relaxed) {
-            sink.abandon();
-            return Err(ExportError::Cancelled);
-        }
         match source.next_frame(&mut frame) {
             Ok(true) => {}
             Ok(false) => break,
@@ -46,7 +41,10 @@ pub fn write_overlay(
             sink.abandon();
             return Err(e);
         }
-        progress(i + 1, n);
+        if !progress(i + 1, n) {
+            sink.abandon();
+            return Err(ExportError::Cancelled);
+        }
     }
     sink.finish()
 }

@@ -38,6 +38,8 @@ pub enum FileTask {
     ExportCsv,
     Picture(PictureKind),
     Video(VideoRequest),
+    /// The film the recording was tracked from, with the marks and the model drawn over it.
+    FilmOverlay,
 }
 
 impl FileTask {
@@ -53,6 +55,11 @@ impl FileTask {
                 ("Export the run as CSV (the columns of simulate --out)", ("CSV", "csv"), true)
             }
             FileTask::Picture(_) => ("Save a picture (PNG)", ("PNG pictures", "png"), true),
+            FileTask::FilmOverlay => (
+                "Export the film with the marks and the model drawn over it (MP4)",
+                ("MP4", "mp4"),
+                true,
+            ),
             FileTask::Video(v) => (
                 "Export a video",
                 if v.format == VideoFormat::Gif { ("GIF", "gif") } else { ("MP4", "mp4") },
@@ -63,6 +70,9 @@ impl FileTask {
             FileTask::OpenCase => "start ringlab with --config FILE.toml instead",
             FileTask::Picture(_) => {
                 "F12 saves a picture of the window without asking (Shift+F12: the 3D view)"
+            }
+            FileTask::FilmOverlay => {
+                "ringlab track FILM --out REC.csv --overlay OUT.mp4 --fit writes the same film"
             }
             _ => "ringlab's command line writes the same files (see ringlab --help)",
         };

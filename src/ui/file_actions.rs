@@ -54,6 +54,7 @@ fn with_extension(task: &FileTask, path: PathBuf) -> PathBuf {
         FileTask::ExportCsv => "csv",
         FileTask::Picture(_) => "png",
         FileTask::Video(v) => v.format.extension(),
+        FileTask::FilmOverlay => "mp4",
     };
     if path.extension().is_some() { path } else { path.with_extension(ext) }
 }
@@ -156,6 +157,12 @@ impl RinglabApp {
             FileTask::ExportCsv => format!("{case}.csv"),
             FileTask::Picture(PictureKind::Window) => format!("ringlab-{case}-t{t:.1}.png"),
             FileTask::Picture(PictureKind::View3d) => format!("ringlab-{case}-3d-t{t:.1}.png"),
+            FileTask::FilmOverlay => {
+                let film = self.recording.loaded().and_then(|l| l.film.as_ref());
+                let stem =
+                    film.and_then(|f| f.path.file_stem()).map(|s| s.to_string_lossy().into_owned());
+                format!("{}-overlay.mp4", stem.unwrap_or_else(|| "film".into()))
+            }
             FileTask::Video(v) => format!(
                 "ringlab-{case}-t{:.1}-{:.1}.{}",
                 v.spec.from,
@@ -226,6 +233,45 @@ impl RinglabApp {
             }
             FileTask::Picture(PictureKind::View3d) => self.save_view_picture(path),
             FileTask::Video(v) => self.export_video(v, path),
+            FileTask::FilmOverlay => self.export_film_overlay(path),
+        }
+    }
+
+    /// The film the recording was tracked from, with its overlay (what the film panel shows:
+    /// the tracked marks, and the model's where one was fitted or diagnosed), as an MP4.
+    fn export_film_overlay(&mut self, path: PathBuf) {
+        let Some(loaded) = self.recording.loaded() else {
+            return self.say(Err("no recording is open: no film to export".into()));
+        };
+        let Some(film) = loaded.film.clone() else {
+            return self
+                .say(Err("the recording was not tracked from a film: no film to export".into()));
+        };
+        let rec = loaded.recording.clone();
+        let model = self.recording.model_marks().cloned();
+        let started = self.exports.start_video(move |ctx| {
+            let overlay = crate::session::overlay::Overlay {
+                tracked: &rec,
+                model: model.as_deref().map(|m| m.as_slice()),
+            };
+            crate::export::overlay::write_overlay(
+                &film.path,
+                &film.options,
+                &overlay,
+                &path,
+                &mut |done, total| {
+                    ctx.report(Progress {
+                        fraction: done as f32 / total.max(1) as f32,
+                        text: format!("frame {done} of {total}"),
+                    });
+                    !ctx.cancelled()
+                },
+            )
+            .map(|()| format!("wrote the film with its overlay to {}", path.display()))
+            .map_err(|e| e.to_string())
+        });
+        if !started {
+            self.say(Err("a video is being made: wait for it, or cancel it".into()));
         }
     }
 

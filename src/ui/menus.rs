@@ -65,6 +65,8 @@ pub fn file_menu_ui(
         item(ui, idle, "Save picture of the window…", "F12", "a PNG of the window as it is (F12 saves one at once, without asking where)", picture(PictureKind::Window), &mut a);
         item(ui, idle, "Save picture of the 3D view…", "Shift+F12", "a PNG of the 3D view alone, every pixel drawn (Shift+F12: at once)", picture(PictureKind::View3d), &mut a);
         item(ui, idle, "Export video…", "", "the run as a GIF or an MP4: the 3D view, the trace or the window", MenuAction::VideoDialog, &mut a);
+        let film = recording.loaded().is_some_and(|l| l.film.is_some());
+        item(ui, idle && film, "Export film with overlay…", "", "the film the recording was tracked from, as an MP4, with the tracked marks and, once fitted or diagnosed, the model's marks and path of A drawn over it", file(FileTask::FilmOverlay), &mut a);
     });
     a
 }

@@ -423,14 +423,7 @@ impl Follower {
     /// Mark `k` searched for near `p`: its centre, if it is there and looks like itself.
     fn look(&self, frame: &Frame, k: usize, p: [f64; 2], gate: f64) -> Option<Centre> {
         let peak = self.peak_near(frame, k, p, gate)?;
-        let c = self.centre_at(frame, peak[0], peak[1], k, 3.0);
-        if std::env::var_os("RINGLAB_DEBUG").is_some() {
-            eprintln!(
-                "mark {k} p {p:?} gate {gate:.1} peak {peak:?} -> {c:?} (typical {:.1}, hue {:.2})",
-                self.marks[k].strength, self.marks[k].hue
-            );
-        }
-        let c = c?;
+        let c = self.centre_at(frame, peak[0], peak[1], k, 3.0)?;
         if (c.x - p[0]).hypot(c.y - p[1]) > gate + 1.0 {
             return None;
         }
