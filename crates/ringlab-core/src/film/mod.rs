@@ -256,12 +256,17 @@ pub fn track(
     };
     let roi = opts.roi.unwrap_or(Roi::whole(&info));
     let range = semi_major_range(opts, &info);
+    let mut style = opts.style;
+    if style == MarkStyle::Auto
+        && let Some(told) = tell_style(path, opts, &roi, range, cancel)?
+    {
+        style = told;
+    }
 
     let mut frames: Vec<FrameMarks> = Vec::new();
     let mut sigma: Vec<[Option<f64>; 4]> = Vec::new();
     let mut frame = Frame::default();
     let mut follower: Option<follow::Follower> = None;
-    let mut style = opts.style;
     let mut acquired_at = None;
     let mut ambiguous = 0usize;
     let mut index = opts.from_frame;
@@ -307,6 +312,36 @@ pub fn track(
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, ambiguous, reacquired)
+}
+
+/// The marks' style, told from the first frames before tracking: colours where four blobs
+/// of four hues make the marks' figure in any of them (a ring on edge at the start may hide
+/// them in the first), else the first of dark and bright dots that one of them shows. `None`:
+/// none showed in [`ACQUIRE_FRAMES`] frames (the tracking then says so).
+fn tell_style(
+    path: &Path,
+    opts: &TrackOptions,
+    roi: &Roi,
+    range: (f64, f64),
+    cancel: &AtomicBool,
+) -> Result<Option<MarkStyle>, FilmError> {
+    for candidate in [MarkStyle::Colours, MarkStyle::Dark, MarkStyle::Bright] {
+        let mut source = FilmSource::open(path)?;
+        source.skip(opts.from_frame)?;
+        let mut frame = Frame::default();
+        for _ in 0..ACQUIRE_FRAMES {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(FilmError::new(path, FilmErrorKind::Cancelled));
+            }
+            if !source.next_frame(&mut frame)? {
+                break;
+            }
+            if find::find_marks(&frame, roi, candidate, range).is_some() {
+                return Ok(Some(candidate));
+            }
+        }
+    }
+    Ok(None)
 }
 
 #[allow(clippy::too_many_arguments)]
