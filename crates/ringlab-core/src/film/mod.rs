@@ -122,6 +122,10 @@ pub struct TrackOptions {
 /// noise estimate of the tracks (`recording::tracks`) takes it where it is larger.
 pub const TRACKER_SIGMA_KEY: &str = "tracker_sigma_px";
 
+/// The start of the header's `px_per_mm_from` where the scale was fitted from the ring
+/// through a near camera.
+pub const NEAR_RING_SCALE: &str = "ring through a near camera";
+
 /// Frames looked through for the four marks before giving up.
 pub const ACQUIRE_FRAMES: u64 = 60;
 
@@ -459,10 +463,14 @@ fn assemble(
     if opts.px_per_mm.is_none()
         && let Some(rs) = &ring_scale
     {
-        extra.push((
-            "px_per_mm_from".to_string(),
-            format!("ring, +-{:.4}, at {:.1} mm", rs.sigma, rs.height_mm),
-        ));
+        let from = match rs.table {
+            Some(t) => format!(
+                "{NEAR_RING_SCALE}, +-{:.4}, about {:.0} mm away",
+                t.sigma, t.camera_distance_mm
+            ),
+            None => format!("ring, +-{:.4}, at {:.1} mm", rs.sigma, rs.height_mm),
+        };
+        extra.push(("px_per_mm_from".to_string(), from));
     }
     let header = Header {
         fps,
