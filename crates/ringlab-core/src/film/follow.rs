@@ -166,16 +166,6 @@ impl Follower {
         std::array::from_fn(|k| self.marks[k].history.last().map(|h| h.1))
     }
 
-    /// Colour marks: mark `k`'s hue.
-    pub fn hue(&self, k: usize) -> f64 {
-        self.marks[k].hue
-    }
-
-    /// The dots' disc radius (px) for the centroid.
-    pub fn disc(&self) -> f64 {
-        self.disc
-    }
-
     /// Dots: each disc tried on the four marks found, its parallelogram gap added to its
     /// running sum; the disc with the smallest sum is taken from then on.
     fn choose_disc(&mut self, frame: &Frame, marks: &FrameMarks) {
