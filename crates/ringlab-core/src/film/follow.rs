@@ -413,7 +413,12 @@ impl Follower {
     /// Mark `k` searched for near `p`: its centre, if it is there and looks like itself.
     fn look(&self, frame: &Frame, k: usize, p: [f64; 2], gate: f64) -> Option<Centre> {
         let peak = self.peak_near(frame, k, p, gate)?;
-        let c = self.centre_at(frame, peak[0], peak[1], k, 3.0)?;
+        // A fit that runs off from the strongest sample (a weak or smeared mark) is tried
+        // again from where the mark was predicted.
+        let fitted = self
+            .centre_at(frame, peak[0], peak[1], k, 3.0)
+            .or_else(|| self.centre_at(frame, p[0], p[1], k, 3.0));
+        let c = fitted?;
         if (c.x - p[0]).hypot(c.y - p[1]) > gate + 1.0 {
             return None;
         }
