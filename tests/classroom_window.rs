@@ -7,7 +7,6 @@
 mod common;
 
 use eframe::egui::{self, Key, Modifiers};
-use eframe::egui_wgpu;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ringlab::config::load_case_file;
@@ -30,17 +29,7 @@ fn harness(app: RinglabApp) -> Harness<'static, RinglabApp> {
 /// A harness drawing through wgpu (lavapipe) with the scene renderer installed, as the window
 /// has it: its screenshots are real renders.
 fn drawing_harness(app: RinglabApp, size: [f32; 2]) -> Harness<'static, RinglabApp> {
-    let rs = egui_kittest::wgpu::create_render_state(
-        egui_kittest::wgpu::default_wgpu_setup(),
-        egui_wgpu::RendererOptions::PREDICTABLE,
-    );
-    ringlab::render::callback::install(&rs);
-    let adapter = rs.adapter.get_info();
-    Harness::builder()
-        .with_size(size)
-        .with_theme(egui::Theme::Light)
-        .with_context_setup(move |ctx| ringlab::ui::adapt_to_adapter(ctx, &adapter))
-        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(rs))
+    common::drawing::drawing_builder(size[0] as u32, size[1] as u32)
         .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app)
 }
 

@@ -3,7 +3,7 @@
 //! pass (the peak resident size after each pass).
 
 use anyhow::{Context, Result};
-use ringlab::film::{MarkStyle, TrackOptions, track};
+use ringlab::film::{TrackOptions, track};
 use ringlab::recording::import::BodyMm;
 use serde::Serialize;
 use std::path::Path;
@@ -38,15 +38,7 @@ fn peak_rss_mib() -> f64 {
 pub fn run(film: &Path, json: bool) -> Result<()> {
     let body = BodyMm::of_case(&ringlab::config::load_preset("steel-ring")?)
         .map_err(anyhow::Error::msg)?;
-    let opts = TrackOptions {
-        style: MarkStyle::Auto,
-        roi: None,
-        from_frame: 0,
-        to_frame: None,
-        fps: None,
-        px_per_mm: None,
-        body,
-    };
+    let opts = TrackOptions::for_body(body);
     let cancel = AtomicBool::new(false);
     let (mut frames, mut seconds, mut passes) = (0usize, 0.0, 0usize);
     let mut peaks = Vec::new();

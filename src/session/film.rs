@@ -34,15 +34,7 @@ pub struct FilmOrigin {
 /// rate where the film has none), the marks' style told from the film, the scale measured
 /// from the ring unless `px_per_mm` is given. None where no body is known.
 pub fn film_options(opts: &ImportOptions, px_per_mm: Option<f64>) -> Option<TrackOptions> {
-    Some(TrackOptions {
-        style: crate::film::MarkStyle::Auto,
-        roi: None,
-        from_frame: 0,
-        to_frame: None,
-        fps: opts.fps,
-        px_per_mm,
-        body: opts.body?,
-    })
+    Some(TrackOptions { fps: opts.fps, px_per_mm, ..TrackOptions::for_body(opts.body?) })
 }
 
 /// What the film lacks, as the import dialog asks for it; None for any other failure.

@@ -24,15 +24,7 @@ fn aluminium_disk() -> BodyMm {
 }
 
 fn options(body: BodyMm) -> TrackOptions {
-    TrackOptions {
-        style: MarkStyle::Auto,
-        roi: None,
-        from_frame: 0,
-        to_frame: None,
-        fps: None,
-        px_per_mm: None,
-        body,
-    }
+    TrackOptions::for_body(body)
 }
 
 fn run(path: &Path, opts: &TrackOptions) -> Result<TrackedFilm, ringlab_core::film::FilmError> {

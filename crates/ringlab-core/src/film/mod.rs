@@ -126,6 +126,22 @@ pub const TRACKER_SIGMA_KEY: &str = "tracker_sigma_px";
 /// through a near camera.
 pub const NEAR_RING_SCALE: &str = "ring through a near camera";
 
+impl TrackOptions {
+    /// The whole film of `body`, the marks' style told from it, the frame rate from the
+    /// container, the scale from the ring.
+    pub fn for_body(body: BodyMm) -> TrackOptions {
+        TrackOptions {
+            style: MarkStyle::Auto,
+            roi: None,
+            from_frame: 0,
+            to_frame: None,
+            fps: None,
+            px_per_mm: None,
+            body,
+        }
+    }
+}
+
 /// Frames looked through for the four marks before giving up.
 pub const ACQUIRE_FRAMES: u64 = 60;
 
