@@ -131,6 +131,7 @@ def synth(
     config: Optional[PathLike] = None,
     effect: Optional[str] = None,
     effect_strength: Optional[float] = None,
+    effect_extras: Sequence[float] = (),
     slip_start: Optional[str] = None,
     noise_px: float = 0.5,
     fps: float = 300.0,
@@ -151,7 +152,8 @@ def synth(
     40.3 mm), through a lens (`lens_k1`) or a pinhole camera (`camera_distance_mm`,
     `camera_tilt_deg`, named in the header only with `camera_in_header`), with marks dropped at
     random (`drop_marks`, a probability) and an `effect` of `effect_strength` concealed in it
-    (any of `ringlab.effects()`, the camera's included). The case as `simulate`'s (`preset` or
+    (any of `ringlab.effects()`, the camera's included), with its extra numbers beyond the
+    strength in `effect_extras` (as `--effect-extra`). The case as `simulate`'s (`preset` or
     `config`, and the same overrides). `seed` seeds the noise. Bad values raise `ValueError`.
     """
     if config is not None and preset == "paper-ring":
@@ -167,6 +169,7 @@ def synth(
         lens_k1=float(lens_k1),
         effect=effect,
         effect_strength=None if effect_strength is None else float(effect_strength),
+        effect_extras=[float(x) for x in effect_extras],
         slip_start=slip_start,
         seed=int(seed),
         rest_frames=int(rest_frames),

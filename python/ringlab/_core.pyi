@@ -70,6 +70,7 @@ def synth(
     lens_k1: float = 0.0,
     effect: Optional[str] = None,
     effect_strength: Optional[float] = None,
+    effect_extras: Sequence[float] = ...,
     slip_start: Optional[str] = None,
     seed: int = 1,
     rest_frames: int = 60,

@@ -104,7 +104,7 @@ fn simulate<'py>(
 
 /// A recording made from the model (`ringlab synth`), with the run's end as JSON.
 #[pyfunction]
-#[pyo3(signature = (preset=None, config=None, overrides=Vec::new(), noise_px=0.5, fps=300.0, px_per_mm=None, lens_k1=0.0, effect=None, effect_strength=None, slip_start=None, seed=1, rest_frames=60, image_size=(1280.0, 1024.0), drop_marks=0.0, reverse_marks=false, camera_distance_mm=None, camera_tilt_deg=0.0, camera_in_header=false))]
+#[pyo3(signature = (preset=None, config=None, overrides=Vec::new(), noise_px=0.5, fps=300.0, px_per_mm=None, lens_k1=0.0, effect=None, effect_strength=None, effect_extras=Vec::new(), slip_start=None, seed=1, rest_frames=60, image_size=(1280.0, 1024.0), drop_marks=0.0, reverse_marks=false, camera_distance_mm=None, camera_tilt_deg=0.0, camera_in_header=false))]
 #[allow(clippy::too_many_arguments)]
 fn synth(
     py: Python<'_>,
@@ -117,6 +117,7 @@ fn synth(
     lens_k1: f64,
     effect: Option<String>,
     effect_strength: Option<f64>,
+    effect_extras: Vec<f64>,
     slip_start: Option<String>,
     seed: u64,
     rest_frames: usize,
@@ -144,6 +145,9 @@ fn synth(
             (kind, Some(x)) => Some((kind, x)),
         },
     };
+    if !effect_extras.is_empty() && effect.is_none() {
+        return Err(PyValueError::new_err("effect_extras needs effect (a name)"));
+    }
     let slip = effect.is_some_and(|(k, _)| k == EffectKind::Slip);
     if let Some(start) = case::slip_start(slip_start.as_deref(), slip)? {
         case.model.effects.slip_start = start;
@@ -155,6 +159,7 @@ fn synth(
         noise_px,
         lens_k1,
         effect,
+        effect_extras,
         seed,
         rest_frames,
         image_width_px: image_size.0,

@@ -160,6 +160,7 @@ def test_bad_parameters_are_value_errors():
         (lambda: ringlab.synth(fps=0), "fps = 0 must be a positive number"),
         (lambda: ringlab.synth(effect="slip"), "effect slip needs effect_strength"),
         (lambda: ringlab.synth(effect_strength=0.2), "effect_strength needs effect"),
+        (lambda: ringlab.synth(effect_extras=[1.0]), "effect_extras needs effect"),
         (lambda: ringlab.synth(effect="reynolds_drag", effect_strength=-2), "invalid effect"),
         (lambda: ringlab.synth(camera_distance_mm=10), "camera distance = 10 mm must exceed"),
         (lambda: ringlab.synth(drop_marks=1.5), "missing fraction = 1.5"),
