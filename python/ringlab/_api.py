@@ -4,14 +4,17 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _core
 from ._progress import ProgressArg, callback
 from ._recording import PathLike, Recording
 from ._results import Diagnosis, FitResult, RunSummary
+
+# numpy is imported where arrays are made: a diagnosis of a file needs none, and
+# `import ringlab` stays a few milliseconds.
+if TYPE_CHECKING:
+    import numpy as np
 
 # simulate's and synth's overrides of the case (the CLI's --c1 .. --atol).
 _OVERRIDES = (
@@ -121,6 +124,8 @@ def simulate(
         slip_start=slip_start,
     )
     summary = RunSummary._from_json(json.loads(summary_json))
+    import numpy as np
+
     array = np.frombuffer(samples, dtype=np.float64).reshape(-1, len(columns)).copy()
     return Run(summary, array, columns)
 

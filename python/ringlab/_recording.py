@@ -5,11 +5,14 @@ from __future__ import annotations
 import errno
 import json
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _core
+
+# numpy is imported where arrays are made: a diagnosis of a file needs none, and
+# `import ringlab` stays a few milliseconds.
+if TYPE_CHECKING:
+    import numpy as np
 
 PathLike = Union[str, "os.PathLike[str]"]
 # A preset's name (its body), or the body's dimensions in mm.
@@ -143,6 +146,8 @@ class Recording:
         `ringlab.RecordingError` for marks that do not make a recording (half a mark, inf, out
         of order, fewer than two usable frames), `ValueError` for a bad keyword.
         """
+        import numpy as np
+
         a = np.asarray(marks, dtype=np.float64)
         if a.ndim != 3 or a.shape[1:] != (4, 2):
             raise ValueError(f"marks: shape {a.shape}, expected (frames, 4, 2)")
@@ -169,6 +174,8 @@ class Recording:
     @property
     def marks(self) -> np.ndarray:
         """The marks, shape (frames, 4, 2), pixels (y down), NaN where a mark was not tracked."""
+        import numpy as np
+
         a = np.frombuffer(self._rec.marks_bytes(), dtype=np.float64).reshape(-1, 4, 2)
         return a.copy()
 
@@ -188,6 +195,8 @@ class Recording:
     @property
     def frame_numbers(self) -> np.ndarray:
         """The frames' numbers."""
+        import numpy as np
+
         return np.arange(self.first_frame, self.first_frame + self.frames, dtype=np.int64)
 
     @property
