@@ -225,3 +225,21 @@ def test_bad_arrays():
 def test_recordings_are_made_by_the_constructors_only():
     with pytest.raises(TypeError, match="Recording.read"):
         ringlab.Recording("file.csv")
+
+
+@needs_hdf5
+def test_the_docs_example_runs_as_written(tmp_path, monkeypatch, capsys):
+    """docs/python.md's example, executed as it stands, on a DeepLabCut file of the sample's
+    first 600 frames (written where the example looks for it)."""
+    from conftest import REPO
+
+    text = (REPO / "docs" / "python.md").read_text()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    name = code.split('pd.read_hdf("', 1)[1].split('"', 1)[0]
+    short = ringlab.Recording.read(SAMPLE).marks[:600]
+    rec = ringlab.Recording.from_arrays(short, fps=300, px_per_mm=3.364764, body="paper-ring")
+    dlc_frame(rec).to_hdf(tmp_path / name, key="df_with_missing", format="table")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/python.md", "exec"), {})
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0].split()[0] in ["none", "unexplained", *ringlab.effects()], printed
