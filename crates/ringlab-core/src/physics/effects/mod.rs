@@ -118,6 +118,7 @@ list! {
     TranslationalDrag => translational_drag: f64,
     CameraDistortion => camera_distortion: (),
     CameraPerspective => camera_perspective: (),
+    TableSlope => table_slope: Option<table_slope::TableSlope>,
 }
 
 /// Where the terms are evaluated: the state's rates and the table's directions in the Resal
