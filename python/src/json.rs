@@ -1,8 +1,9 @@
 //! The JSON objects of `ringlab diagnose --json` and `ringlab fit --json`, field for field:
 //! the Python results are these objects (`to_dict()`), so that a notebook and a script that
 //! parses the CLI's output read the same names and numbers. A copy of the CLI's `DiagnoseJson`
-//! and `FitReport` (`src/cli`, the app crate, which this crate cannot depend on without the
-//! window); `tests/test_cli_equal.py` compares the two outputs whenever the CLI is built.
+//! (`src/cli/diagnose_json.rs`) and `FitReport` (`src/cli/fit.rs`): the app crate, which this
+//! crate cannot depend on without the window; `python/tests/test_fit_diagnose.py` compares the
+//! two outputs whenever the CLI is built.
 
 use ringlab_core::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, Finding};
 use ringlab_core::analysis::fit::FitResult;

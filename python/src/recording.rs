@@ -222,9 +222,11 @@ impl PyRecording {
         positive(w, "image width")?;
         positive(h, "image height")?;
         check_camera(camera_distance_mm, camera_tilt_deg)?;
-        if first_frame < 0 {
+        // Frame numbers are i64 in the import; far below their end.
+        if !(0..=i64::from(u32::MAX)).contains(&first_frame) {
             return Err(PyValueError::new_err(format!(
-                "first_frame = {first_frame}: must be >= 0"
+                "first_frame = {first_frame}: must lie in [0, {}]",
+                u32::MAX
             )));
         }
 
@@ -266,7 +268,7 @@ impl PyRecording {
             ImportErrorKind::NotCyclic { order, bad, frames, suggestion } => {
                 let idx: Vec<String> = suggestion
                     .split(',')
-                    .map(|n| n.parse::<usize>().map_or("?".into(), |n| (n - 1).to_string()))
+                    .map(|n| n.parse::<usize>().map_or("?".into(), |n| n.saturating_sub(1).to_string()))
                     .collect();
                 RecordingError::new_err(format!(
                     "marks {order} are not in cyclic order around the rim in {bad} of {frames} frames with all four (the diagonals do not cross); reorder them, e.g. marks[:, [{}]]",

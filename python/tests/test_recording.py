@@ -202,7 +202,7 @@ def test_bad_arrays():
         (good, {"px_per_mm": float("nan")}, ValueError, "px_per_mm = NaN"),
         (good, {"body": {"shape": "ring"}}, ValueError, "outer_radius_mm"),
         (good, {"body": {"shape": "ring", "outer_radius_mm": 5, "width_mm": 18, "thickness_mm": 9}}, ValueError, "impossible"),
-        (good, {"first_frame": -1}, ValueError, "first_frame = -1"),
+        (good, {"first_frame": -1}, ValueError, "first_frame = -1: must lie in"),
         (good, {"image_size": (0, 10)}, ValueError, "image width = 0"),
         (good, {"camera_tilt_deg": 85}, ValueError, "camera_tilt_deg = 85"),
         (good, {"camera_distance_mm": -5}, ValueError, "camera_distance_mm = -5"),
