@@ -49,11 +49,15 @@ def main() -> int:
     ap.add_argument("files", nargs="*", type=Path, default=DEFAULT)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--cli", type=Path, default=REPO / "target/release/ringlab")
+    # One thread on both sides: rayon's idle workers spin before they sleep, so with all cores
+    # the CPU time follows the machine's other load; with one it is the work's.
+    ap.add_argument("--threads", type=int, default=None, help="threads for both (default all cores)")
     args = ap.parse_args()
     if not args.cli.is_file():
         print(f"no CLI at {args.cli}: cargo build --release", file=sys.stderr)
         return 2
-    print(f"{os.cpu_count()} cores; load {os.getloadavg()[0]:.1f}; {args.rounds} rounds")
+    threads = "all cores" if args.threads is None else f"{args.threads} thread(s)"
+    print(f"{os.cpu_count()} cores; load {os.getloadavg()[0]:.1f}; {args.rounds} rounds; {threads}")
     verdicts = []
     for f in args.files:
         rec = ringlab.Recording.read(f)
@@ -62,13 +66,17 @@ def main() -> int:
             order = ["cli", "python", "call"] if r % 2 == 0 else ["call", "python", "cli"]
             for what in order:
                 if what == "cli":
-                    got[what].append(timed_process([str(args.cli), "diagnose", str(f), "--json"]))
+                    flags = [] if args.threads is None else ["--threads", str(args.threads)]
+                    got[what].append(timed_process([str(args.cli), "diagnose", str(f), "--json", *flags]))
                 elif what == "python":
-                    code = f"import ringlab; ringlab.diagnose(ringlab.Recording.read({str(f)!r}), progress=False)"
+                    code = (
+                        f"import ringlab; ringlab.diagnose(ringlab.Recording.read({str(f)!r}), "
+                        f"progress=False, threads={args.threads})"
+                    )
                     got[what].append(timed_process([sys.executable, "-c", code]))
                 else:
                     cpu0, t0 = time.process_time(), time.perf_counter()
-                    ringlab.diagnose(rec, progress=False)
+                    ringlab.diagnose(rec, progress=False, threads=args.threads)
                     got[what].append((time.perf_counter() - t0, time.process_time() - cpu0))
                 wall, cpu = got[what][-1]
                 print(f"{f.name:16} round {r} {what:6} wall {wall:7.3f} s  cpu {cpu:7.3f} s", flush=True)
