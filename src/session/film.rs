@@ -160,6 +160,18 @@ impl super::RecordingSession {
         self.loading = Some((path, super::Job::start("track-film", self.background, read)));
     }
 
+    /// Tracks the open film again with other options (the film panel's Tracking: the marks'
+    /// style, the frames, the region, the scale); the recording it gives replaces this one.
+    pub fn track_film_again(&mut self, options: TrackOptions) {
+        let Some(path) = self.film().map(|f| f.path.clone()) else { return };
+        self.error = None;
+        self.note = None;
+        self.pending_import = None;
+        let p = path.clone();
+        let read = move |ctx: &JobContext| track_and_load(&p, options, ctx);
+        self.loading = Some((path, super::Job::start("track-film", self.background, read)));
+    }
+
     /// File > Open video's dialog (its answer arrives through `poll`).
     pub fn open_video_dialog(&mut self) {
         if self.dialog.is_none() {
