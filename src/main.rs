@@ -39,7 +39,7 @@ enum Command {
     /// Fit the model (drag C1..C3 and the start state) to a recording
     Fit(cli::fit::FitArgs),
     /// Name the physics the model left out of a recording (or none), show the fit improve
-    Diagnose(cli::diagnose::DiagnoseArgs),
+    Diagnose(cli::diagnose_args::DiagnoseArgs),
     /// The diagnosis on recordings with a concealed effect: hit rates, misfits, false alarms
     DiagnoseBench(cli::diagnose_bench::DiagnoseBenchArgs),
     /// Measure the speed of the physics core

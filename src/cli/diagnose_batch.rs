@@ -1,7 +1,8 @@
 //! `ringlab diagnose FILE... --table OUT.csv [--shard I/N]`: a folder of recordings, one row
 //! each, and `--merge` to join the shards' tables.
 
-use super::diagnose::{DiagnoseArgs, DiagnoseJson};
+use super::diagnose_args::DiagnoseArgs;
+use super::diagnose_json::DiagnoseJson;
 use super::progress::{COUNT_TEMPLATE, LateBar, with_threads};
 use super::shard::{Shard, read_tables, write_table};
 use anyhow::{Context, Result, bail};

@@ -34,6 +34,10 @@ pub struct SynthArgs {
     /// Strength of --effect (see `physics::effects` for each effect's meaning)
     #[arg(long, value_name = "X", allow_negative_numbers = true, requires = "effect")]
     pub effect_strength: Option<f64>,
+    /// The --effect's extra numbers beyond its strength, in order (repeatable; `ringlab
+    /// effects` lists them: table_slope's direction in degrees, ...)
+    #[arg(long, value_name = "X", allow_negative_numbers = true, requires = "effect")]
+    pub effect_extra: Vec<f64>,
     /// With --effect slip: how a start that needs more friction than mu F_N begins: cone
     /// (slides at once) or held (rolls on until it needs no more)
     #[arg(long, value_enum, value_name = "HOW")]
@@ -121,6 +125,7 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         noise_px: args.noise_px,
         lens_k1: args.lens_k1,
         effect,
+        effect_extras: args.effect_extra.clone(),
         seed: args.seed,
         rest_frames: args.rest_frames,
         image_width_px,

@@ -7,7 +7,7 @@
 //! for fewer pixels. Sizes measured are in docs/classroom.md.
 
 use super::ExportError;
-use super::video::FrameSink;
+use super::sink::FrameSink;
 use image::RgbaImage;
 use std::fs::File;
 use std::io::{BufWriter, Write};

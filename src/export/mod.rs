@@ -1,6 +1,6 @@
 //! What the classroom takes away from a run: a video (GIF or MP4) of it, pictures, the case as a
 //! file, the samples as CSV. Frames come from the same renderer and panels as the window
-//! ([`frames`]); encoding is the `gif` crate through `image` ([`gif`]) or an `ffmpeg` found on
+//! (`ui::frames`, through the [`Frames`] trait: export knows nothing of the window); encoding is the `gif` crate through `image` ([`gif`]) or an `ffmpeg` found on
 //! PATH ([`mp4`]).
 
 pub mod csv;
@@ -10,9 +10,10 @@ pub mod mp4;
 pub mod overlay;
 pub mod picture;
 pub mod session;
+pub mod sink;
 pub mod video;
 
-pub use frames::{Aim, FrameSource, View};
+pub use frames::{Aim, Frames, View, render_views};
 pub use video::{VideoFormat, VideoSpec, write_video};
 
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! own so that a full pipe never stops it.
 
 use super::ExportError;
-use super::video::FrameSink;
+use super::sink::FrameSink;
 use image::RgbaImage;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};

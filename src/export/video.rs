@@ -1,14 +1,15 @@
 //! A run as a video: frames at even steps of the playback clock from one time to another,
-//! drawn by a [`FrameSource`] and handed to an encoder (GIF or MP4, by the file's name).
+//! drawn by a [`Frames`] (the window's drawing) and handed to an encoder (GIF or MP4, by the
+//! file's name).
 //!
 //! The clock is the window's: `speed` is a multiple of real time (0.25: a quarter of real
 //! time, the window's default), so a second of video shows `speed` seconds of the motion,
 //! `speed / time unit` units of a case in the paper's units.
 
-use super::frames::FrameSource;
+use super::frames::Frames;
+pub use super::sink::FrameSink;
 use super::{ExportError, gif::GifWriter, mp4::Mp4Writer};
 use crate::render::Gpu;
-use image::RgbaImage;
 use std::path::{Path, PathBuf};
 
 /// The most frames one video may have (an hour at 25 frames/s).
@@ -101,15 +102,6 @@ impl VideoSpec {
     }
 }
 
-/// An encoder taking frames one by one.
-pub trait FrameSink {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), ExportError>;
-    /// Ends the file.
-    fn finish(self: Box<Self>) -> Result<(), ExportError>;
-    /// Stops without a file (cancelled or failed): what was written is removed.
-    fn abandon(self: Box<Self>);
-}
-
 /// Opens the encoder for `path` (GIF or MP4 by its extension), frames of `size` at `fps`.
 pub fn open_sink(path: &Path, size: [u32; 2], fps: f64) -> Result<Box<dyn FrameSink>, ExportError> {
     match VideoFormat::of(path) {
@@ -138,7 +130,7 @@ pub struct VideoReport {
 /// abandoned (its file removed) and the answer is [`ExportError::Cancelled`].
 pub fn write_video(
     gpu: &Gpu,
-    source: &mut FrameSource,
+    source: &mut dyn Frames,
     spec: &VideoSpec,
     size: [u32; 2],
     path: &Path,

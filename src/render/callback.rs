@@ -2,9 +2,10 @@
 //! prepares its frame (on egui's encoder) and copies it into the view's rectangle when egui
 //! paints. The [`SceneRenderer`] lives in egui-wgpu's callback resources.
 
+use super::kit::{ResourcePaint, resource_callback};
 use super::renderer::SceneRenderer;
 use super::scene::SceneFrame;
-use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor};
+use eframe::egui_wgpu::{self, ScreenDescriptor};
 use eframe::{egui, wgpu};
 
 pub struct SceneCallback {
@@ -39,37 +40,34 @@ pub fn paint_callback(
     frame: SceneFrame,
 ) -> egui::PaintCallback {
     let scale = if scale.is_finite() { scale.clamp(0.25, 1.0) } else { 1.0 };
-    egui_wgpu::Callback::new_paint_callback(rect, SceneCallback { slot, frame, rect, scale })
+    resource_callback(rect, SceneCallback { slot, frame, rect, scale })
 }
 
-impl CallbackTrait for SceneCallback {
+impl ResourcePaint for SceneCallback {
+    type Resource = SceneRenderer;
+
     fn prepare(
         &self,
+        renderer: &mut SceneRenderer,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         screen: &ScreenDescriptor,
         encoder: &mut wgpu::CommandEncoder,
-        resources: &mut CallbackResources,
-    ) -> Vec<wgpu::CommandBuffer> {
-        if let Some(r) = resources.get_mut::<SceneRenderer>() {
-            let ppp = screen.pixels_per_point * self.scale;
-            let size = [
-                (self.rect.width() * ppp).round().max(1.0) as u32,
-                (self.rect.height() * ppp).round().max(1.0) as u32,
-            ];
-            r.render(device, queue, encoder, self.slot, &self.frame, size);
-        }
-        Vec::new()
+    ) {
+        let ppp = screen.pixels_per_point * self.scale;
+        let size = [
+            (self.rect.width() * ppp).round().max(1.0) as u32,
+            (self.rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        renderer.render(device, queue, encoder, self.slot, &self.frame, size);
     }
 
     fn paint(
         &self,
-        _info: egui::PaintCallbackInfo,
+        renderer: &SceneRenderer,
+        _info: &egui::PaintCallbackInfo,
         pass: &mut wgpu::RenderPass<'static>,
-        resources: &CallbackResources,
     ) {
-        if let Some(r) = resources.get::<SceneRenderer>() {
-            r.paint(self.slot, pass);
-        }
+        renderer.paint(self.slot, pass);
     }
 }

@@ -7,6 +7,7 @@ pub mod adapter;
 pub mod callback;
 pub mod camera;
 pub mod headless;
+mod kit;
 pub mod lean_paint;
 pub mod mesh;
 mod pipelines;

@@ -1,9 +1,9 @@
 //! The scene's pipelines and bind-group layouts (one WGSL module, `shaders/scene.wgsl`), and
 //! the copy of the finished scene into egui's render pass (`shaders/blit.wgsl`).
 
+use super::kit;
 use super::mesh::Vertex;
 use super::scene::TraceSegment;
-use std::num::NonZeroU64;
 
 /// The offscreen colour format: 8-bit, holding the sRGB-encoded values the shaders write (an
 /// sRGB view that encodes on write measured slower on lavapipe than the shaders' own cheap
@@ -29,67 +29,39 @@ pub(super) struct Pipelines {
 impl Pipelines {
     /// `globals_size`: the size of the per-view uniforms.
     pub fn new(device: &wgpu::Device, globals_size: u64) -> Pipelines {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/scene.wgsl").into()),
-        });
+        let shader = kit::shader(device, "scene.wgsl", include_str!("../../shaders/scene.wgsl"));
         let both = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
-        let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[uniform_entry(0, false, globals_size, both)],
-        });
-        let objects_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("object"),
-            entries: &[uniform_entry(0, true, OBJECT_SIZE, both)],
-        });
         let frag = wgpu::ShaderStages::FRAGMENT;
-        let textures_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow map"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: frag,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
+        let globals_layout =
+            kit::bind_group_layout(device, "globals", &[(both, kit::uniform(false, globals_size))]);
+        let objects_layout =
+            kit::bind_group_layout(device, "object", &[(both, kit::uniform(true, OBJECT_SIZE))]);
+        let textures_layout = kit::bind_group_layout(
+            device,
+            "shadow map",
+            &[
+                (frag, kit::texture(wgpu::TextureSampleType::Depth)),
+                (frag, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
             ],
-        });
+        );
+        let main_layout = kit::pipeline_layout(
+            device,
+            "scene",
+            &[&globals_layout, &objects_layout, &textures_layout],
+        );
+        let shadow_layout =
+            kit::pipeline_layout(device, "shadow", &[&globals_layout, &objects_layout]);
 
-        let main_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("scene"),
-            bind_group_layouts: &[
-                Some(&globals_layout),
-                Some(&objects_layout),
-                Some(&textures_layout),
-            ],
-            immediate_size: 0,
-        });
-        let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow"),
-            bind_group_layouts: &[Some(&globals_layout), Some(&objects_layout)],
-            immediate_size: 0,
-        });
-
-        let vertex_layout = wgpu::VertexBufferLayout {
+        let vertex_layout = [Some(wgpu::VertexBufferLayout {
             array_stride: size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
-        };
-        let trace_layout = wgpu::VertexBufferLayout {
+        })];
+        let trace_layout = [Some(wgpu::VertexBufferLayout {
             array_stride: size_of::<TraceSegment>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,
             attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x2],
-        };
+        })];
         let depth = |write: bool, bias: wgpu::DepthBiasState| wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(write),
@@ -97,72 +69,49 @@ impl Pipelines {
             stencil: wgpu::StencilState::default(),
             bias,
         };
-        let opaque = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let blended = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let mesh_pipeline = |label: &str, fs: &str, cull: Option<wgpu::Face>| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&main_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some("vs_mesh"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
-                },
-                primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
-                depth_stencil: Some(depth(true, wgpu::DepthBiasState::default())),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &opaque,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+        let towards_eye = wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 };
+        // A pipeline of the scene's layout, culling nothing.
+        let scene = |label, vertex, buffers, fragment, depth| kit::PipelineSpec {
+            label,
+            layout: &main_layout,
+            shader: &shader,
+            vertex,
+            buffers,
+            cull: None,
+            depth: Some(depth),
+            fragment: Some(fragment),
         };
-        let body_pipeline = mesh_pipeline("bodies", "fs_body", Some(wgpu::Face::Back));
-        let table_pipeline = mesh_pipeline("table", "fs_table", None);
+        let opaque = kit::color_target(DRAW_FORMAT, None);
+        let mesh_depth = depth(true, wgpu::DepthBiasState::default());
+        let body = kit::PipelineSpec {
+            cull: Some(wgpu::Face::Back),
+            ..scene(
+                "bodies",
+                "vs_mesh",
+                &vertex_layout,
+                ("fs_body", opaque.clone()),
+                mesh_depth.clone(),
+            )
+        }
+        .build(device);
+        let table = scene("table", "vs_mesh", &vertex_layout, ("fs_table", opaque), mesh_depth)
+            .build(device);
         // Traces lie on the table: drawn after it with a depth bias towards the eye, so they
         // win against the table at any distance yet still hide behind a body.
-        let trace_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("traces"),
-            layout: Some(&main_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_trace"),
-                compilation_options: Default::default(),
-                buffers: &[Some(trace_layout)],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(
-                false,
-                wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 },
-            )),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_trace"),
-                compilation_options: Default::default(),
-                targets: &blended,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let blended = kit::color_target(DRAW_FORMAT, Some(wgpu::BlendState::ALPHA_BLENDING));
+        let trace = scene(
+            "traces",
+            "vs_trace",
+            &trace_layout,
+            ("fs_trace", blended),
+            depth(false, towards_eye),
+        )
+        .build(device);
         // Shadow and contact shading of the table near the bodies: multiplies what the table
         // and the traces left (blend: source times destination), before the bodies are drawn.
-        let multiply = [Some(wgpu::ColorTargetState {
-            format: DRAW_FORMAT,
-            blend: Some(wgpu::BlendState {
+        let multiply = kit::color_target(
+            DRAW_FORMAT,
+            Some(wgpu::BlendState {
                 color: wgpu::BlendComponent {
                     src_factor: wgpu::BlendFactor::Dst,
                     dst_factor: wgpu::BlendFactor::Zero,
@@ -174,80 +123,40 @@ impl Pipelines {
                     operation: wgpu::BlendOperation::Add,
                 },
             }),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let shade_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("table shading"),
-            layout: Some(&main_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_shade"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(
-                false,
-                wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 },
-            )),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_shade"),
-                compilation_options: Default::default(),
-                targets: &multiply,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow"),
-            layout: Some(&shadow_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout.clone())],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth(
+        );
+        let shade = scene(
+            "table shading",
+            "vs_shade",
+            &[],
+            ("fs_shade", multiply),
+            depth(false, towards_eye),
+        )
+        .build(device);
+        let shadow = kit::PipelineSpec {
+            label: "shadow",
+            layout: &shadow_layout,
+            shader: &shader,
+            vertex: "vs_shadow",
+            buffers: &vertex_layout,
+            cull: None,
+            depth: Some(depth(
                 true,
                 wgpu::DepthBiasState { constant: 2, slope_scale: 2.0, clamp: 0.0 },
             )),
-            multisample: wgpu::MultisampleState::default(),
             fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        }
+        .build(device);
 
         Pipelines {
-            body: body_pipeline,
-            table: table_pipeline,
-            trace: trace_pipeline,
-            shade: shade_pipeline,
-            shadow: shadow_pipeline,
+            body,
+            table,
+            trace,
+            shade,
+            shadow,
             globals_layout,
             objects_layout,
             textures_layout,
         }
-    }
-}
-
-fn uniform_entry(
-    binding: u32,
-    dynamic: bool,
-    size: u64,
-    vis: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: vis,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: NonZeroU64::new(size),
-        },
-        count: None,
     }
 }
 
@@ -259,53 +168,24 @@ pub(super) struct Blit {
 
 impl Blit {
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Blit {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("blit.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("blit"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("blit"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("blit"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_full"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some(if format.is_srgb() { "fs_decode" } else { "fs_copy" }),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let shader = kit::shader(device, "blit.wgsl", include_str!("../../shaders/blit.wgsl"));
+        let texture = kit::texture(wgpu::TextureSampleType::Float { filterable: false });
+        let layout =
+            kit::bind_group_layout(device, "blit", &[(wgpu::ShaderStages::FRAGMENT, texture)]);
+        let pipeline = kit::PipelineSpec {
+            label: "blit",
+            layout: &kit::pipeline_layout(device, "blit", &[&layout]),
+            shader: &shader,
+            vertex: "vs_full",
+            buffers: &[],
+            cull: None,
+            depth: None,
+            fragment: Some((
+                if format.is_srgb() { "fs_decode" } else { "fs_copy" },
+                kit::color_target(format, None),
+            )),
+        }
+        .build(device);
         Blit { pipeline, layout }
     }
 

@@ -10,8 +10,9 @@
 //! the font atlas, which the batch carries as a copy ([`AtlasCopy`]): egui hands its own
 //! texture to egui-wgpu only after the frame, and may replace it then.
 
+use super::kit::{self, ResourcePaint, resource_callback};
 use eframe::egui::{self, epaint::ClippedPrimitive};
-use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor};
+use eframe::egui_wgpu::ScreenDescriptor;
 use eframe::wgpu;
 use std::sync::Arc;
 
@@ -37,7 +38,7 @@ impl UiBatch {
 
 /// The paint callback drawing run `run` of `batch`, covering `screen` (in points).
 pub fn batch_callback(batch: Arc<UiBatch>, run: usize, screen: egui::Rect) -> egui::PaintCallback {
-    egui_wgpu::Callback::new_paint_callback(screen, BatchCallback { batch, run })
+    resource_callback(screen, BatchCallback { batch, run })
 }
 
 struct BatchCallback {
@@ -73,49 +74,22 @@ impl UiPainter {
     /// For a render pass with one sample, no depth, colour format `format` (eframe's and
     /// egui_kittest's passes with their default options).
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> UiPainter {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ui.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/ui.wgsl").into()),
-        });
-        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty,
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ui"),
-            entries: &[
-                entry(
-                    0,
-                    wgpu::ShaderStages::VERTEX,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(
-                    1,
+        let shader = kit::shader(device, "ui.wgsl", include_str!("../../shaders/ui.wgsl"));
+        let layout = kit::bind_group_layout(
+            device,
+            "ui",
+            &[
+                (wgpu::ShaderStages::VERTEX, kit::uniform(false, 0)),
+                (
                     wgpu::ShaderStages::FRAGMENT,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
+                    kit::texture(wgpu::TextureSampleType::Float { filterable: true }),
                 ),
-                entry(
-                    2,
+                (
                     wgpu::ShaderStages::FRAGMENT,
                     wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 ),
             ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ui"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        );
         // egui's premultiplied blending, as egui-wgpu sets it.
         let blend = wgpu::BlendState {
             color: wgpu::BlendComponent {
@@ -129,36 +103,24 @@ impl UiPainter {
                 operation: wgpu::BlendOperation::Add,
             },
         };
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: size_of::<egui::epaint::Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Float32x2, 2 => Uint32],
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ui"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_ui"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout)],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some(if format.is_srgb() { "fs_ui_srgb" } else { "fs_ui" }),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: Some(blend),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = kit::PipelineSpec {
+            label: "ui",
+            layout: &kit::pipeline_layout(device, "ui", &[&layout]),
+            shader: &shader,
+            vertex: "vs_ui",
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: size_of::<egui::epaint::Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Float32x2, 2 => Uint32],
+            })],
+            cull: None,
+            depth: None,
+            fragment: Some((
+                if format.is_srgb() { "fs_ui_srgb" } else { "fs_ui" },
+                kit::color_target(format, Some(blend)),
+            )),
+        }
+        .build(device);
         // The font atlas' own options (linear, clamped), as egui asks for it.
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("ui atlas"),
@@ -372,30 +334,27 @@ fn write_growing(
     }
 }
 
-impl CallbackTrait for BatchCallback {
+impl ResourcePaint for BatchCallback {
+    type Resource = UiPainter;
+
     fn prepare(
         &self,
+        painter: &mut UiPainter,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         screen: &ScreenDescriptor,
         _encoder: &mut wgpu::CommandEncoder,
-        resources: &mut CallbackResources,
-    ) -> Vec<wgpu::CommandBuffer> {
-        if let Some(p) = resources.get_mut::<UiPainter>() {
-            p.upload(device, queue, screen, &self.batch);
-        }
-        Vec::new()
+    ) {
+        painter.upload(device, queue, screen, &self.batch);
     }
 
     fn paint(
         &self,
-        info: egui::PaintCallbackInfo,
+        painter: &UiPainter,
+        info: &egui::PaintCallbackInfo,
         pass: &mut wgpu::RenderPass<'static>,
-        resources: &CallbackResources,
     ) {
-        if let Some(p) = resources.get::<UiPainter>() {
-            p.paint(&self.batch, self.run, &info, pass);
-        }
+        painter.paint(&self.batch, self.run, info, pass);
     }
 }
 

@@ -5,6 +5,7 @@
 //! shaded); buttons that put either model in the simulator. The state is the session's
 //! ([`RecordingSession`]); this only draws it and says what the user asked for.
 
+use super::job_controls::{JobClick, JobView, job_controls_ui};
 use super::palette::{BASELINE_COLOR, DATA_COLOR, IMPROVED_COLOR, MISMATCH_COLOR, MISMATCH_FILL};
 use super::plots::thin;
 use crate::analysis::diagnose::{Diagnosis, Finding};
@@ -45,30 +46,17 @@ pub fn diagnose_panel_ui(
         ui.label("Open a recording first (File > Open recording…, or drop one onto the window).");
         return action;
     }
-    match session.diagnose_progress() {
-        Some(p) => {
-            ui.add(
-                egui::ProgressBar::new(p.fraction)
-                    .text(RichText::new(p.text).small())
-                    .animate(true),
-            );
-            let cancelling = session.diagnose_cancelling();
-            if ui
-                .add_enabled(
-                    !cancelling,
-                    egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" }),
-                )
-                .clicked()
-            {
-                action = DiagnoseAction::Cancel;
-            }
-        }
-        None => {
-            let label = if session.diagnosed().is_some() { "Diagnose again" } else { "Diagnose" };
-            if ui.button(label).on_hover_text("runs off the window's thread").clicked() {
-                action = DiagnoseAction::Diagnose;
-            }
-        }
+    let job = JobView {
+        name: "Diagnose",
+        hover: "runs off the window's thread",
+        progress: session.diagnose_progress(),
+        cancelling: session.diagnose_cancelling(),
+        done: session.diagnosed().is_some(),
+    };
+    match job_controls_ui(ui, job) {
+        JobClick::Start => action = DiagnoseAction::Diagnose,
+        JobClick::Cancel => action = DiagnoseAction::Cancel,
+        JobClick::None => {}
     }
     if let Some(d) = session.diagnosed() {
         ui.separator();

@@ -5,16 +5,16 @@
 //! the desktop's dialog, and its answer goes to [`RinglabApp::file_chosen`], which is also how
 //! tests answer (kittest cannot drive a native dialog; in fixed mode none is opened).
 
+use super::frames::FrameSource;
 use super::menus::MenuAction;
 use super::presentation::{Zoom, zoom_keys};
 use super::recording_panel::RecordingAction;
 use super::{Detail3d, Mode, RinglabApp, SideTab};
 use crate::config::{CaseFile, load_case_file, save_case_file};
 use crate::export::csv::write_run_csv;
-use crate::export::frames::render_views;
 use crate::export::picture::{from_color_image, save_png};
 use crate::export::session::{FileTask, Outcome, PictureKind, VideoRequest, describe_video};
-use crate::export::{Aim, ExportError, FrameSource, View, write_video};
+use crate::export::{Aim, ExportError, View, render_views, write_video};
 use crate::render::{Gpu, RenderError, SceneRenderer};
 use crate::session::Progress;
 use crate::session::file_dialog::DialogOutcome;

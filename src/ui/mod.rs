@@ -13,6 +13,7 @@
 pub mod controls;
 pub mod diagnose_panel;
 pub mod import_dialog;
+pub mod job_controls;
 /// The adapter's adjustments and the lean painter live with the renderer; the window uses them.
 pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
 pub use crate::render::lean_paint;
@@ -20,6 +21,7 @@ mod app_recording;
 mod file_actions;
 mod film_tracking;
 mod film_view;
+pub mod frames;
 pub mod menus;
 pub mod palette;
 mod panels;

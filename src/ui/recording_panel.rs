@@ -3,6 +3,7 @@
 //! while a file is dragged over the window. The state lives in [`RecordingSession`] (no egui);
 //! these functions only draw it and say what the user asked for.
 
+use super::job_controls::{JobClick, JobView, job_controls_ui};
 use super::palette::DATA_COLOR;
 use crate::recording::import::Source;
 use crate::recording::marks::MarkOrder;
@@ -95,36 +96,17 @@ pub fn recording_panel_ui(
     ui.label(
         RichText::new("drag C1..C3 and the start state, by multiple shooting on the marks' pixels (a few seconds)").small(),
     );
-    match session.fit_progress() {
-        Some(p) => {
-            ui.add(
-                egui::ProgressBar::new(p.fraction)
-                    .text(RichText::new(p.text).small())
-                    .animate(true),
-            );
-            let cancelling = session.fit_cancelling();
-            if ui
-                .add_enabled(
-                    !cancelling,
-                    egui::Button::new(if cancelling { "Cancelling…" } else { "Cancel" }),
-                )
-                .clicked()
-            {
-                action = RecordingAction::CancelFit;
-            }
-        }
-        None => {
-            let label = if session.fitted().is_some() { "Fit again" } else { "Fit" };
-            if ui
-                .button(label)
-                .on_hover_text(
-                    "runs off the window's thread; the simulator then runs the fitted model",
-                )
-                .clicked()
-            {
-                action = RecordingAction::Fit;
-            }
-        }
+    let fit = JobView {
+        name: "Fit",
+        hover: "runs off the window's thread; the simulator then runs the fitted model",
+        progress: session.fit_progress(),
+        cancelling: session.fit_cancelling(),
+        done: session.fitted().is_some(),
+    };
+    match job_controls_ui(ui, fit) {
+        JobClick::Start => action = RecordingAction::Fit,
+        JobClick::Cancel => action = RecordingAction::CancelFit,
+        JobClick::None => {}
     }
     if let Some(f) = session.fitted()
         && fit_ui(ui, f, fit_in_use)

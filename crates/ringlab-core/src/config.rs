@@ -247,7 +247,7 @@ impl CaseFile {
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
             slip_start: if e.slip_start_held { SlipStart::HeldRolling } else { SlipStart::Cone },
-            slip_start_velocity: [0.0, 0.0],
+            ..Default::default()
         };
         let model = model.with_effects(effects).map_err(|e| format!("[effects] {e}"))?;
         let i = &self.initial;
@@ -362,16 +362,7 @@ impl Case {
         let b = &self.model.body;
         let body = Body::new(b.shape, b.r * k.length, b.h * k.length, b.w * k.length)
             .map_err(|e| e.to_string())?;
-        let e = self.model.effects;
-        let effects = Effects {
-            reynolds_drag: e.reynolds_drag,
-            rolling_friction: e.rolling_friction * k.length,
-            pivot_friction: e.pivot_friction * k.length,
-            translational_drag: e.translational_drag / k.length,
-            slip_mu: e.slip_mu,
-            slip_start: e.slip_start,
-            slip_start_velocity: e.slip_start_velocity.map(|v| v * k.length / k.time),
-        };
+        let effects = self.model.effects.in_units(k.length, k.time);
         let model = Model::new(body, to.g(), self.model.c_drag, to.nu_air())
             .and_then(|m| m.with_effects(effects))
             .map_err(|e| e.to_string())?;

@@ -118,9 +118,9 @@ pub struct TrackOptions {
     pub body: BodyMm,
 }
 
-/// The header key of the tracker's own estimate of a centre's error (px per coordinate): the
-/// noise estimate of the tracks (`recording::tracks`) takes it where it is larger.
-pub const TRACKER_SIGMA_KEY: &str = "tracker_sigma_px";
+/// The header key of the tracker's own estimate of a centre's error (px per coordinate),
+/// defined where the tracks' noise estimate reads it.
+pub use crate::recording::tracks::TRACKER_SIGMA_KEY;
 
 /// The start of the header's `px_per_mm_from` where the scale was fitted from the ring
 /// through a near camera.

@@ -20,6 +20,7 @@
 //! - Power: `T . w = -k_r F_N |w_h| - k_p F_N |w . Z| <= 0`, `F_d . v_C = -k |v_C|^3 <= 0`;
 //!   the contact force does no work while rolling, so none of these can raise the energy.
 
+use super::effects::At;
 use super::model::{Dynamics, Model};
 use nalgebra::Vector3;
 
@@ -40,32 +41,29 @@ impl Model {
         FRICTION_SMOOTHING * (self.g / self.body.r).sqrt()
     }
 
-    /// `u`: the torque of rolling and pivot friction per unit normal force, for angular
-    /// velocity `w` with table normal `z` (frame components).
+    /// Where the effects' terms are evaluated (see [`At`]).
+    #[inline]
+    pub fn terms_at<'a>(
+        &self,
+        w: &'a Vector3<f64>,
+        z: &'a Vector3<f64>,
+        v_c: &'a Vector3<f64>,
+        theta: (f64, f64),
+        heading: (f64, f64),
+    ) -> At<'a> {
+        At { w, z, v_c, theta, heading, g: self.g, eps: self.friction_smoothing_rate() }
+    }
+
+    /// `u`: the torque of the effects (rolling and pivot friction) per unit normal force, for
+    /// angular velocity `w` with table normal `z` (frame components).
     #[inline]
     pub fn contact_torque_per_normal_force(
         &self,
         w: &Vector3<f64>,
         z: &Vector3<f64>,
     ) -> Vector3<f64> {
-        let e = &self.effects;
-        let eps = self.friction_smoothing_rate();
-        let mut u = Vector3::zeros();
-        if e.rolling_friction > 0.0 {
-            let w_h = w - z * w.dot(z);
-            u -= e.rolling_friction * w_h / (w_h.norm_squared() + eps * eps).sqrt();
-        }
-        if e.pivot_friction > 0.0 {
-            let s = w.dot(z);
-            u -= e.pivot_friction * (s / (s * s + eps * eps).sqrt()) * z;
-        }
-        u
-    }
-
-    /// Quadratic air drag on the centre of mass, `-k |v_C| v_C` (per unit mass).
-    #[inline]
-    pub fn air_drag_force(&self, v_c: &Vector3<f64>) -> Vector3<f64> {
-        -self.effects.translational_drag * v_c.norm() * v_c
+        let v = Vector3::zeros();
+        self.effects.torque_per_normal_force(&self.terms_at(w, z, &v, (z.y, z.z), (0.0, 1.0)))
     }
 
     /// The rolling dynamics with the losses of this module (see the module doc).
@@ -78,16 +76,17 @@ impl Model {
         w: &Vector3<f64>,
         om_x_vc: &Vector3<f64>,
         v_c: &Vector3<f64>,
-        st: f64,
-        ct: f64,
+        (st, ct): (f64, f64),
+        heading: (f64, f64),
     ) -> Dynamics {
         let b = &self.body;
         let r_g = b.r_g();
         let z = Vector3::new(0.0, st, ct);
         let g_z = self.g * z;
-        let f_d = self.air_drag_force(v_c);
+        let at = self.terms_at(w, &z, v_c, (st, ct), heading);
+        let f_d = self.effects.force_at_centre(&at);
         f += r_g.cross(&f_d);
-        let u = self.contact_torque_per_normal_force(w, &z);
+        let u = self.effects.torque_per_normal_force(&at);
         let wd0 = b.j_inv * f + tau;
         let f_n0 = (wd0.cross(&r_g) + om_x_vc + g_z - f_d).dot(&z);
         let ju = b.j_inv * u;

@@ -6,6 +6,9 @@
 //! [`Effects`], the one seam through which extra physics enters.
 
 use super::body::{Body, ParamError, check_finite, check_non_negative, check_positive};
+pub use super::effects::reynolds_drag::ReynoldsDrag;
+pub use super::effects::slip::SlipStart;
+pub use super::effects::Effects;
 use super::integrator::System;
 use super::trig::sin_cos;
 use nalgebra::Vector3;
@@ -24,127 +27,6 @@ pub mod ix {
     pub const W3: usize = 5;
     pub const X: usize = 6;
     pub const Y: usize = 7;
-}
-
-/// Drag coefficients that grow as the Reynolds number falls (the paper, section III: "as the
-/// motion of the ring slows down, Re decreases and the drag coefficients increase"):
-/// `C_i(Re) = C_i (Re_ref / Re)^n`, with the factor capped at `max_factor` because the power
-/// law (laminar skin friction gives `n` near 1/2, section IV) does not hold as `Re -> 0`.
-/// `Re = 2 U R / nu_air` is physical, the same in every unit system. Which speed `U` sets the
-/// flow round a spinning ring the paper does not pin down: it takes the centre's, `|v_C|`;
-/// the rim moves at `|omega| R`, faster wherever the ring spins about the line from contact
-/// to centre. `rim_share` blends the two, `U^2 = |v_C|^2 + s (|omega|^2 R^2 - |v_C|^2)`
-/// (0: the paper's, 1: the rim's), so that a drag law of that other shape is still this effect.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ReynoldsDrag {
-    pub re_ref: f64,
-    pub exponent: f64,
-    pub max_factor: f64,
-    pub rim_share: f64,
-}
-
-impl ReynoldsDrag {
-    /// The multiplier on `C_i` at Reynolds number `re`: `min((re_ref / re)^n, max_factor)`.
-    /// Continuous in `re` (the cap is reached at `re = re_ref max_factor^(-1/n)`), and
-    /// `max_factor` at `re = 0`.
-    #[inline]
-    pub fn factor(&self, re: f64) -> f64 {
-        if re <= 0.0 {
-            return self.max_factor;
-        }
-        (self.re_ref / re).powf(self.exponent).min(self.max_factor)
-    }
-}
-
-/// Physics beyond the paper's model. All off by default; each is switched on by a non-zero
-/// parameter (lengths in the model's units). See `effects.rs` for the named effects and
-/// their dimensionless strengths, `losses.rs` and `slip.rs` for the mechanics.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Effects {
-    /// Reynolds-dependent drag coefficients.
-    pub reynolds_drag: Option<ReynoldsDrag>,
-    /// Rolling resistance: a torque `-k F_N w_h/|w_h|` against the horizontal (rolling) part
-    /// `w_h` of omega; `k` is a length (the forward shift of the normal force in the contact).
-    pub rolling_friction: f64,
-    /// Pivot (drilling) friction: a torque `-k F_N sign(w . Z) Z` against spin about the
-    /// table normal; `k` is a length (contact-patch radius times a friction coefficient).
-    pub pivot_friction: f64,
-    /// Quadratic air drag on the centre of mass, `F = -k |v_C| v_C` per unit mass (`k` is
-    /// 1/length).
-    pub translational_drag: f64,
-    /// Sliding contact: Coulomb friction with this coefficient (static and kinetic alike)
-    /// once rolling would need more than it gives (None: pure rolling, the paper's model).
-    /// Handled by the run, which switches to a larger state while the contact slides.
-    pub slip_mu: Option<f64>,
-    /// How the sliding contact begins a run whose start state needs more friction than
-    /// `mu F_N` (slip effect only).
-    pub slip_start: SlipStart,
-    /// The contact's slip velocity where a run begins at the model's start, along the heading
-    /// `(cos phi, sin phi)` and across it (slip effect with [`SlipStart::Cone`] only; zero: no
-    /// slide in progress). A recording starts where the camera does, and a ring may already
-    /// be sliding there; runs continued from a later state of a run begin without it.
-    pub slip_start_velocity: [f64; 2],
-}
-
-/// How a run with the slip effect begins where rolling at its start state would need more
-/// friction than `mu F_N`. A recording starts where the camera does; how the contact stands at
-/// the first frame is not in the data, so a fit may try both.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SlipStart {
-    /// Slide at once from zero slip (the physical reading of a state beyond the cone).
-    #[default]
-    Cone,
-    /// Hold the contact rolling until rolling first needs no more than `mu F_N`; from then on
-    /// slide where the demand crosses `mu F_N`. This is how an event-driven hybrid simulator
-    /// behaves when it is started in rolling mode: it switches only at a zero crossing of the
-    /// margin, so a start beyond the cone rolls on (the run reports that stretch as `slip`).
-    HeldRolling,
-}
-
-impl Effects {
-    /// No effect at all in the rolling right-hand side (the sliding contact is handled by the
-    /// run, not here).
-    pub fn is_none(&self) -> bool {
-        self.reynolds_drag.is_none() && !self.has_contact_terms()
-    }
-
-    /// Whether the right-hand side needs its cold path: forces and torques that change the
-    /// contact force (all but the Reynolds scaling, which only rescales eq. 5).
-    #[inline]
-    pub fn has_contact_terms(&self) -> bool {
-        self.rolling_friction != 0.0 || self.pivot_friction != 0.0 || self.translational_drag != 0.0
-    }
-
-    pub fn validate(&self) -> Result<(), ParamError> {
-        if let Some(r) = &self.reynolds_drag {
-            check_positive("reynolds_drag re_ref", r.re_ref)?;
-            check_non_negative("reynolds_drag exponent", r.exponent)?;
-            check_finite("reynolds_drag max_factor", r.max_factor)?;
-            if !(0.0..=1.0).contains(&r.rim_share) {
-                return Err(ParamError {
-                    name: "reynolds_drag rim_share",
-                    value: r.rim_share,
-                    reason: "must lie in [0, 1] (0: the centre's speed, 1: the rim's)",
-                });
-            }
-            if r.max_factor < 1.0 {
-                return Err(ParamError {
-                    name: "reynolds_drag max_factor",
-                    value: r.max_factor,
-                    reason: "must be at least 1 (the cap bounds the growth of C_i at low Re)",
-                });
-            }
-        }
-        check_non_negative("rolling_friction", self.rolling_friction)?;
-        check_non_negative("pivot_friction", self.pivot_friction)?;
-        check_non_negative("translational_drag", self.translational_drag)?;
-        if let Some(mu) = self.slip_mu {
-            check_non_negative("slip mu", mu)?;
-        }
-        check_finite("slip start velocity (along)", self.slip_start_velocity[0])?;
-        check_finite("slip start velocity (across)", self.slip_start_velocity[1])?;
-        Ok(())
-    }
 }
 
 /// The complete force model of one body on the table.
@@ -251,15 +133,29 @@ impl Model {
         }
     }
 
-    /// Angular acceleration and contact force at `(theta, w)`.
+    /// Angular acceleration and contact force at `(theta, w)`, heading `phi = 0` (where the
+    /// table is level, as without `table_slope`, the heading does not matter).
     #[inline]
     pub fn dynamics(&self, theta: f64, w: &Vector3<f64>) -> Dynamics {
-        self.dynamics_sc(sin_cos(theta), w)
+        self.dynamics_sc(sin_cos(theta), (0.0, 1.0), w)
     }
 
-    /// [`Model::dynamics`] from `(sin(theta), cos(theta))`, which the right-hand side needs too.
+    /// Angular acceleration and contact force at the rolling state `y`.
     #[inline]
-    pub fn dynamics_sc(&self, (st, ct): (f64, f64), w: &Vector3<f64>) -> Dynamics {
+    pub fn dynamics_of(&self, y: &StateVec) -> Dynamics {
+        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
+        self.dynamics_sc(sin_cos(y[ix::THETA]), sin_cos(y[ix::PHI]), &w)
+    }
+
+    /// [`Model::dynamics`] from `(sin(theta), cos(theta))` and `(sin(phi), cos(phi))`, which the
+    /// right-hand side needs too.
+    #[inline]
+    pub fn dynamics_sc(
+        &self,
+        (st, ct): (f64, f64),
+        heading: (f64, f64),
+        w: &Vector3<f64>,
+    ) -> Dynamics {
         let b = &self.body;
         let tan = st / ct;
         let (a, r) = (0.5 * b.h, b.r);
@@ -284,7 +180,7 @@ impl Model {
             let force = omega_dot.cross(&r_g) + om_x_vc + gz;
             return Dynamics::from_force(omega_dot, force, st, ct, v_c);
         }
-        self.dynamics_with_losses(f, tau, w, &om_x_vc, &v_c, st, ct)
+        self.dynamics_with_losses(f, tau, w, &om_x_vc, &v_c, (st, ct), heading)
     }
 
     /// Total energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` (m = 1).
@@ -338,8 +234,8 @@ impl System<STATE_LEN> for Model {
     fn rhs(&self, _t: f64, y: &StateVec, dy: &mut StateVec) {
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = sin_cos(y[ix::THETA]);
-        let d = self.dynamics_sc((st, ct), &w);
         let (sp, cp) = sin_cos(y[ix::PHI]);
+        let d = self.dynamics_sc((st, ct), (sp, cp), &w);
         // Euler-angle kinematics (PHYSICS.md inverse): theta' = w1, phi' = w3/cos, psi' = w2 - w3 tan.
         dy[ix::PHI] = w.z / ct;
         dy[ix::THETA] = w.x;

@@ -59,7 +59,7 @@ fn top_centre_sc(
 impl Sample {
     /// A sample of a rolling state.
     pub fn new(model: &Model, t: f64, y: &StateVec) -> Sample {
-        let d = model.dynamics(y[ix::THETA], &Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]));
+        let d = model.dynamics_of(y);
         Sample::with_dynamics(model, t, y, &d, model.energy(y))
     }
 

@@ -193,8 +193,9 @@ impl SlidingModel {
         let tau =
             Vector3::new(-c[0] * w.x.abs() * w.x, -c[1] * w.y.abs() * w.y, -c[2] * w.z.abs() * w.z);
         let bv = -om.cross(&i_w) + b.j * tau;
-        let f_d = m.air_drag_force(&v_c);
-        let u = m.contact_torque_per_normal_force(&w, &z);
+        let at = m.terms_at(&w, &z, &v_c, (st, ct), (sp, cp));
+        let f_d = m.effects.force_at_centre(&at);
+        let u = m.effects.torque_per_normal_force(&at);
         let r_g = b.r_g();
         let i1 = b.inertia.x;
         let rhs_n = m.g - f_d.dot(&z) + kappa * bv.x / i1 - z_c * w.x * w.x;
@@ -313,7 +314,7 @@ pub fn stick(model: &Model, y: &SlideVec) -> (StateVec, f64) {
 
 /// Horizontal friction that rolling needs at a rolling state, table components, with `F_N`.
 pub fn rolling_friction_demand(model: &Model, y: &StateVec) -> ([f64; 2], f64) {
-    let d = model.dynamics(y[ix::THETA], &Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]));
+    let d = model.dynamics_of(y);
     let (sp, cp) = sin_cos(y[ix::PHI]);
     ([d.f_1 * cp - d.f_f * sp, d.f_1 * sp + d.f_f * cp], d.f_n)
 }

@@ -27,6 +27,7 @@
 //! distance from the centre; `k1 < 0` is barrel distortion, `k1 > 0` pincushion.
 
 use super::{FrameMarks, Header};
+use crate::physics::effects::CameraNumbers;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -48,6 +49,24 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// The numbers an effect can set (`physics::effects`).
+    pub fn numbers(&self) -> CameraNumbers {
+        CameraNumbers {
+            px_per_mm: self.px_per_mm,
+            k1: self.k1,
+            distance_mm: self.distance_mm,
+            tilt_rad: self.tilt_rad,
+        }
+    }
+
+    /// Sets the numbers an effect can set.
+    pub fn set_numbers(&mut self, n: &CameraNumbers) {
+        self.px_per_mm = n.px_per_mm;
+        self.k1 = n.k1;
+        self.distance_mm = n.distance_mm;
+        self.tilt_rad = n.tilt_rad;
+    }
+
     /// An undistorted orthographic camera over an image of `width x height` pixels whose centre
     /// is the table's origin (how `synth` places the start, and the sample's `pixel_origin`).
     pub fn centred(px_per_mm: f64, width_px: f64, height_px: f64) -> Camera {

@@ -19,7 +19,7 @@ use super::{FrameMarks, Header, MARKS, Recording};
 use crate::config::Case;
 use crate::physics::effects::{self, EffectKind};
 use crate::physics::run::RunError;
-use crate::physics::{Conversion, ParamError, RunSummary, Sample, Simulation, Units};
+use crate::physics::{Conversion, Model, ParamError, RunSummary, Sample, Simulation, Units};
 use thiserror::Error;
 
 /// The paper's camera scale: 135.6 px = 40.3 mm.
@@ -37,6 +37,9 @@ pub struct SynthOptions {
     pub lens_k1: f64,
     /// An effect beyond the baseline model and its strength (`physics::effects`).
     pub effect: Option<(EffectKind, f64)>,
+    /// The effect's first extra numbers (`Descriptor::extras`, in order; the rest as the case
+    /// and the camera options have them).
+    pub effect_extras: Vec<f64>,
     pub seed: u64,
     /// Frames of the ring lying still after a natural end.
     pub rest_frames: usize,
@@ -61,6 +64,7 @@ impl Default for SynthOptions {
             noise_px: 0.5,
             lens_k1: 0.0,
             effect: None,
+            effect_extras: Vec::new(),
             seed: 1,
             rest_frames: 60,
             image_width_px: 1280.0,
@@ -154,24 +158,28 @@ impl SynthOptions {
         Ok(())
     }
 
-    /// The camera these options describe (the effect `camera_distortion` sets its `k1`,
-    /// `camera_perspective` its distance).
+    /// The camera these options describe (a camera effect sets its numbers on it: the effect
+    /// `camera_distortion` its `k1`, `camera_perspective` its distance).
     pub fn camera(&self) -> Camera {
-        let k1 = match self.effect {
-            Some((EffectKind::CameraDistortion, s)) => s,
-            _ => self.lens_k1,
-        };
-        // The effect `camera_perspective` sets the distance (strength 1000 mm / D).
-        let distance_mm = match self.effect {
-            Some((EffectKind::CameraPerspective, s)) if s > 0.0 => Some(1000.0 / s),
-            _ => self.camera_distance_mm,
-        };
-        Camera {
-            k1,
-            distance_mm,
+        let mut camera = Camera {
+            k1: self.lens_k1,
+            distance_mm: self.camera_distance_mm,
             tilt_rad: self.camera_tilt_deg.to_radians(),
             ..Camera::centred(self.px_per_mm, self.image_width_px, self.image_height_px)
+        };
+        if let Some((kind, s)) = self.effect
+            && kind.is_camera()
+            && s != 0.0
+        {
+            let mut numbers = camera.numbers();
+            let (at, mut effects) = (effects::ApplyAt::new(1.0, 1.0), Default::default());
+            if effects::apply_with_extras(kind, s, &self.effect_extras, &at, &mut effects, &mut numbers)
+                .is_ok()
+            {
+                camera.set_numbers(&numbers);
+            }
         }
+        camera
     }
 }
 
@@ -192,8 +200,19 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
     let mut model = case.model.clone();
     if let Some((kind, strength)) = opts.effect {
         let start = Sample::new(&model, 0.0, &case.initial.to_state());
-        effects::apply(kind, strength, model.body.r, start.reynolds, &mut model.effects)
+        if kind.is_physical() {
+            let at = effects::ApplyAt::new(model.body.r, start.reynolds);
+            let mut numbers = opts.camera().numbers();
+            effects::apply_with_extras(
+                kind,
+                strength,
+                &opts.effect_extras,
+                &at,
+                &mut model.effects,
+                &mut numbers,
+            )
             .map_err(SynthError::Effect)?;
+        }
     }
     let dt = 1.0 / opts.fps / time_s;
     let run_opts = crate::physics::RunOptions { sample_dt: Some(dt), ..case.opts.clone() };
@@ -207,6 +226,21 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
         samples.extend(std::iter::repeat_n(summary.final_sample, opts.rest_frames));
     }
 
+    let recording = film(case, &model, &samples, opts)?;
+    let camera = opts.camera();
+    Ok(Synthesized { recording, samples, summary, camera, length_mm, time_s })
+}
+
+/// Films `samples` of a run of `model` (the case's, with the effects it ran with) as `opts`
+/// say: the marks through the camera with the pixel noise, and the header. [`synthesize`] runs
+/// the model first; a test can film a motion made another way.
+pub fn film(
+    case: &Case,
+    model: &Model,
+    samples: &[Sample],
+    opts: &SynthOptions,
+) -> Result<Recording, SynthError> {
+    let length_mm = Conversion::between(case.units, Units::MM_S).length;
     let camera = opts.camera();
     let geometry = MarkGeometry::of_body(&model.body, opts.mark_order).scaled(length_mm);
     let mut rng = Rng::new(opts.seed);
@@ -253,6 +287,5 @@ pub fn synthesize(case: &Case, opts: &SynthOptions) -> Result<Synthesized, Synth
         camera_tilt_deg: opts.camera_in_header.then_some(opts.camera_tilt_deg),
         extra,
     };
-    let recording = Recording { header, first_frame: 0, frames };
-    Ok(Synthesized { recording, samples, summary, camera, length_mm, time_s })
+    Ok(Recording { header, first_frame: 0, frames })
 }

@@ -27,7 +27,11 @@ pub fn check_tracks(rec: &Recording) -> CheckedTracks {
     CheckedTracks { recording: Recording { frames, ..rec.clone() }, glitches, noise }
 }
 
-/// The tracker's own estimate of a centre's error (the header's `tracker_sigma_px`, written
+/// The header key of a tracker's own estimate of a centre's error (px per coordinate), written
+/// by the film tracker (`film`): the noise estimate of the tracks takes it where it is larger.
+pub const TRACKER_SIGMA_KEY: &str = "tracker_sigma_px";
+
+/// The tracker's own estimate of a centre's error (the header's [`TRACKER_SIGMA_KEY`], written
 /// by `ringlab track`), where it is larger than what the tracks' differences read: an error
 /// that turns with the ring is smooth in time, and the differences miss it.
 fn with_tracker_floor(noise: Option<NoiseEstimate>, rec: &Recording) -> Option<NoiseEstimate> {
@@ -35,7 +39,7 @@ fn with_tracker_floor(noise: Option<NoiseEstimate>, rec: &Recording) -> Option<N
         .header
         .extra
         .iter()
-        .find(|(k, _)| k == crate::film::TRACKER_SIGMA_KEY)
+        .find(|(k, _)| k == TRACKER_SIGMA_KEY)
         .and_then(|(_, v)| v.parse::<f64>().ok())
         .filter(|v| v.is_finite() && *v > 0.0);
     match (noise, floor) {

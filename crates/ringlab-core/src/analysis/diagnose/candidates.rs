@@ -13,6 +13,7 @@
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
 //! baseline is refitted from the baseline's solution.
 
+use super::result::extras_of;
 use super::whole::{
     LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect,
     with_effects,
@@ -26,27 +27,34 @@ use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-/// Strengths tried first for `kind`: nine log-spaced values from half the realistic range's
-/// low end to twice its high end (both signs for the lens: its realistic range is barrel
-/// only, the data decide the sign); slip: from half the low end to just below the Painleve
-/// limit `mu_max`. Not zero: the baseline's drag and states absorb what they can of an
-/// effect, so at them no effect always looks best.
+/// Strengths tried first for `kind` (its descriptor's scan: nine log-spaced values from half
+/// the realistic range's low end to twice its high end for most; both signs for the lens, whose
+/// realistic range is barrel only; slip up to just below the Painleve limit `mu_max`). Not
+/// zero: the baseline's drag and states absorb what they can of an effect, so at them no effect
+/// always looks best.
 pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
-    let (lo, hi) = kind.realistic_range();
-    let spaced = |a: f64, b: f64, n: usize| -> Vec<f64> {
-        (0..n).map(|i| a * (b / a).powf(i as f64 / (n - 1) as f64)).collect()
-    };
-    match kind {
-        EffectKind::None => vec![0.0],
-        EffectKind::CameraDistortion => {
-            let mags = spaced(0.5 * hi.abs(), 2.0 * lo.abs(), 9);
-            mags.iter().map(|m| -m).chain(mags.iter().copied()).collect()
-        }
-        EffectKind::Slip => {
-            spaced(0.5 * lo, 0.98 * mu_max, 9).into_iter().filter(|&m| m > 0.0).collect()
-        }
-        _ => spaced(0.5 * lo, 2.0 * hi, 9),
+    let d = kind.descriptor();
+    (d.scan)(d.realistic, mu_max)
+}
+
+/// The effect's free numbers tried first: each trial strength with every combination of its
+/// extras' scan values (`Extra::scan`; an extra without one at its start).
+pub fn trial_starts(kind: EffectKind, mu_max: f64) -> Vec<Vec<f64>> {
+    if kind.free_count() == 0 {
+        return vec![Vec::new()];
     }
+    let mut starts: Vec<Vec<f64>> =
+        trial_strengths(kind, mu_max).into_iter().map(|s| vec![s]).collect();
+    for x in kind.descriptor().extras {
+        let values = if x.scan.is_empty() { std::slice::from_ref(&x.start) } else { x.scan };
+        starts = starts
+            .into_iter()
+            .flat_map(|p| {
+                values.iter().map(move |&v| p.iter().copied().chain([v]).collect::<Vec<f64>>())
+            })
+            .collect();
+    }
+    starts
 }
 
 /// The strength at which a candidate starts from the baseline's own solution: the baseline
@@ -61,41 +69,22 @@ pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
     }
 }
 
-/// More starts for an effect the strength scan cannot see, tried beside the scan's pick: slip
-/// at the middle of its realistic range, and where the run begins held rolling also at its low
-/// end. The scan holds the baseline's segment states, and a segment re-anchored at every start
-/// has its slides' drift absorbed, so it always picks the largest `mu` (no sliding), from where
-/// the least squares never find the slides (six of twenty concealed slip recordings named
-/// none). The least squares see a slide only where the model slides. A run begun sliding
-/// always has its first slide, whatever `mu`; one held rolling slides only where the friction
-/// that rolling needs exceeds `mu F_N`, so from above, the slides the model lacks pull on
-/// nothing and the fit can stop short of them, while from below each slide too many pulls `mu`
-/// up towards the recording's (`single:slip` seed 15, held, `mu` 0.321: from the middle, 0.39,
-/// the first stage stopped at 0.446, from 0.25 at 0.328 and a third of the cost). The middle
-/// stays beside the low end because the first stage's few iterations end where they end: on
-/// `single:slip` seed 7 (held, 383 frames, `mu` 0.260) both reach 0.27 to 0.28, and only the
-/// middle's, at 0.7 times the other's cost, leads down the path to the noise. The first stage
-/// goes on from the start that ends lowest.
+/// More starts for an effect the strength scan cannot see, tried beside the scan's pick (its
+/// descriptor's `blind`: slip's, where the scan holds the baseline's segment states, which
+/// absorb a slide's drift). The first stage goes on from the start that ends lowest.
 pub fn blind_starts(kind: EffectKind, mu_max: f64, start: SlipStart) -> Vec<f64> {
-    let (lo, hi) = kind.realistic_range();
-    let mid = (lo * hi).sqrt().min(0.9 * mu_max);
-    match (kind, start) {
-        (EffectKind::Slip, SlipStart::HeldRolling) => vec![lo.min(0.9 * mu_max), mid],
-        (EffectKind::Slip, _) => vec![mid],
-        _ => Vec::new(),
-    }
+    let d = kind.descriptor();
+    (d.blind)(d.realistic, mu_max, start == SlipStart::HeldRolling)
 }
 
-/// The effect's free numbers at `strength` (the camera's tilt starts level, the Reynolds
-/// number from the centre's speed, as the paper has it, slip with no slide in progress at the
-/// start).
+/// The effect's free numbers at `strength`, its extras where their descriptor starts them (the
+/// camera's tilt level, the Reynolds number from the centre's speed, as the paper has it, slip
+/// with no slide in progress at the start).
 pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
-    match kind {
-        EffectKind::None => Vec::new(),
-        EffectKind::CameraPerspective | EffectKind::ReynoldsDrag => vec![strength, 0.0],
-        EffectKind::Slip => vec![strength, 0.0, 0.0],
-        _ => vec![strength],
+    if kind.free_count() == 0 {
+        return Vec::new();
     }
+    std::iter::once(strength).chain(kind.descriptor().extras.iter().map(|x| x.start)).collect()
 }
 
 /// The largest `mu` the sliding contact allows for this body (`slip.rs`).
@@ -188,11 +177,9 @@ fn first_stage(
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<lm::LmSolution, LmError> {
-    let trials = trial_strengths(kind, mu_max);
-    let globals: Vec<Vec<f64>> = trials
-        .iter()
-        .map(|&s| join.global.iter().copied().chain(effect_start(kind, s)).collect())
-        .collect();
+    let trials = trial_starts(kind, mu_max);
+    let globals: Vec<Vec<f64>> =
+        trials.iter().map(|t| join.global.iter().chain(t).copied().collect()).collect();
     let costs: Vec<f64> = globals.iter().map(|g| segment_cost(sh, g, &join.states)).collect();
     let best = (0..trials.len())
         .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
@@ -208,7 +195,8 @@ fn first_stage(
     let locals: Vec<Vec<f64>> = join.states.iter().map(|y| y.to_vec()).collect();
     let mut starts = vec![globals[best].clone()];
     let start = sh.spec.base.effects.slip_start;
-    for blind in blind_starts(kind, mu_max, start).into_iter().filter(|&m| m != trials[best]) {
+    let picked = trials[best].first().copied();
+    for blind in blind_starts(kind, mu_max, start).into_iter().filter(|&m| Some(m) != picked) {
         starts.push(join.global.iter().copied().chain(effect_start(kind, blind)).collect());
     }
     let mut first: Option<lm::LmSolution> = None;
@@ -438,7 +426,9 @@ pub fn fit_pair(
     cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
-    let shaped = first_fit.rim_share.is_some_and(|(share, _)| share != 0.0);
+    let shaped = extras_of(&first_fit.extras, EffectKind::ReynoldsDrag)
+        .first()
+        .is_some_and(|(share, _)| *share != 0.0);
     let mut fit = pair_path(ms, levels, first_fit, second_fit, on_iteration, cancel);
     if shaped {
         let other = pair_path(ms, levels, second_fit, first_fit, &mut |_, _| {}, cancel);
@@ -480,7 +470,7 @@ fn pair_path(
     let own = |w: &WholeFit| w.internal[w.internal.len() - w.kind.free_count()..].to_vec();
     let lead = own(lead_fit);
     let mut trials: Vec<Vec<f64>> = vec![own(other_fit)];
-    trials.extend(trial_strengths(second, mu_max).into_iter().map(|s| effect_start(second, s)));
+    trials.extend(trial_starts(second, mu_max));
     let globals: Vec<Vec<f64>> = trials
         .iter()
         .map(|t| join.global.iter().chain(&lead).chain(t).copied().collect())

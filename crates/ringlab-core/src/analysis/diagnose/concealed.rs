@@ -4,7 +4,7 @@
 //! The recording carries nothing of how it was made (its header's extra keys are cleared).
 
 use crate::config::{Case, load_preset};
-use crate::physics::effects::EffectKind;
+use crate::physics::effects::{ApplyAt, EffectKind, apply_with_extras};
 use crate::physics::{Initial, SlipStart, paper};
 use crate::recording::Recording;
 use crate::recording::rng::Rng;
@@ -16,9 +16,28 @@ use std::f64::consts::PI;
 pub struct Concealed {
     pub effect: EffectKind,
     pub strength: f64,
+    /// The effect's extra numbers drawn (empty: none drawn, see [`concealed_case`]).
+    pub extras: Vec<f64>,
     pub c: [f64; 3],
     pub initial: Initial,
     pub seed: u64,
+}
+
+/// The extra numbers of `kind` where its file gives any a realistic range (uniform there; the
+/// others at their start), none otherwise (no number drawn, so the recordings of the effects
+/// without such numbers stay as they were).
+fn draw_extras(kind: EffectKind, rng: &mut Rng) -> Vec<f64> {
+    let extras = kind.descriptor().extras;
+    if !extras.iter().any(|x| x.realistic.0 < x.realistic.1) {
+        return Vec::new();
+    }
+    extras
+        .iter()
+        .map(|x| {
+            let (lo, hi) = x.realistic;
+            if lo < hi { lo + (hi - lo) * rng.uniform() } else { x.start }
+        })
+        .collect()
 }
 
 /// Log-uniform in `[lo, hi]` by magnitude (the ranges span up to a decade; the sign kept).
@@ -58,7 +77,7 @@ pub fn concealed_case(
     case.model.c_drag = paper::C_RING.map(|c| c * (0.26 * (2.0 * rng.uniform() - 1.0)).exp());
     let (lo, hi) = effect.realistic_range();
     let strength = log_uniform(&mut rng, lo, hi);
-    let opts = SynthOptions {
+    let mut opts = SynthOptions {
         noise_px: 0.5,
         effect: (effect != EffectKind::None).then_some((effect, strength)),
         seed: rng.next_u64(),
@@ -67,7 +86,16 @@ pub fn concealed_case(
     if effect == EffectKind::Slip && rng.uniform() < 0.5 {
         case.model.effects.slip_start = SlipStart::HeldRolling;
     }
-    let truth = Concealed { effect, strength, c: case.model.c_drag, initial: case.initial, seed };
+    // Drawn last, so that the recordings of the other effects stay as they were.
+    opts.effect_extras = draw_extras(effect, &mut rng);
+    let truth = Concealed {
+        effect,
+        strength,
+        extras: opts.effect_extras.clone(),
+        c: case.model.c_drag,
+        initial: case.initial,
+        seed,
+    };
     Ok((case, opts, truth))
 }
 
@@ -245,14 +273,11 @@ pub fn family_recording(family: Family, seed: u64) -> Result<Recording, String> 
             if a.is_physical() {
                 let start = crate::physics::Sample::new(&case.model, 0.0, &case.initial.to_state());
                 let (_, s) = opts.effect.take().ok_or("a pair's first effect has no strength")?;
-                crate::physics::effects::apply(
-                    a,
-                    s,
-                    case.model.body.r,
-                    start.reynolds,
-                    &mut case.model.effects,
-                )
-                .map_err(|e| e.to_string())?;
+                let at = ApplyAt::new(case.model.body.r, start.reynolds);
+                let mut numbers = opts.camera().numbers();
+                let extras = std::mem::take(&mut opts.effect_extras);
+                apply_with_extras(a, s, &extras, &at, &mut case.model.effects, &mut numbers)
+                    .map_err(|e| e.to_string())?;
             }
             if b == EffectKind::CameraPerspective {
                 anywhere(&mut case, &mut rng);
@@ -262,14 +287,16 @@ pub fn family_recording(family: Family, seed: u64) -> Result<Recording, String> 
                     opts.camera_tilt_deg = 12.0 * (2.0 * rng.uniform() - 1.0);
                 }
             }
+            // Drawn after the rest, so the other pairs' recordings stay as they were.
+            opts.effect_extras = draw_extras(b, &mut rng);
             if a.is_physical() {
                 opts.effect = Some((b, strength));
             } else if let Some((_, s)) = opts.effect.take() {
                 // A camera effect first: it goes to the camera, the second to the physics.
-                match a {
-                    EffectKind::CameraDistortion => opts.lens_k1 = s,
-                    _ => opts.camera_distance_mm = Some(1000.0 / s),
-                }
+                let mut numbers = opts.camera().numbers();
+                (a.descriptor().camera)(s, &mut numbers);
+                opts.lens_k1 = numbers.k1;
+                opts.camera_distance_mm = numbers.distance_mm;
                 opts.effect = Some((b, strength));
             }
         }

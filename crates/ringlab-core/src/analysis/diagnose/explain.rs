@@ -4,59 +4,16 @@
 use super::result::{Diagnosis, Finding, ModelFit, Signature};
 use super::rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
 use crate::physics::SlipStart;
-use crate::physics::effects::EffectKind;
+use super::result::extras_of;
+use crate::physics::effects::{EffectKind, Words};
 use std::fmt::Write;
 
 /// What each effect is, in a lab's words.
 pub fn describe(kind: EffectKind) -> &'static str {
-    match kind {
-        EffectKind::None => {
-            "nothing: the paper's model (pure rolling, quadratic air drag of eq. 5)"
-        }
-        EffectKind::ReynoldsDrag => {
-            "drag coefficients that grow as the ring slows down (C_i rising as the Reynolds number falls)"
-        }
-        EffectKind::RollingFriction => {
-            "rolling friction: a torque proportional to the normal force that resists the rolling"
-        }
-        EffectKind::PivotFriction => {
-            "pivot friction: a torque proportional to the normal force that resists spinning about the vertical"
-        }
-        EffectKind::Slip => {
-            "slipping at the contact: the ring slides where rolling would need more friction than the table gives"
-        }
-        EffectKind::TranslationalDrag => {
-            "air drag on the travel of the ring (on its centre of mass), not only on its rotation"
-        }
-        EffectKind::CameraDistortion => {
-            "the camera's radial lens distortion (a measurement effect; the physics is unchanged)"
-        }
-        EffectKind::CameraPerspective => {
-            "the camera's perspective: a pinhole at a finite distance, perhaps tilted, sees marks above the table magnified (a measurement effect)"
-        }
-    }
+    kind.descriptor().what
 }
 
-fn pm(v: f64, s: f64) -> String {
-    if s.is_finite() {
-        format!("{} +- {}", sig(v), sig(s))
-    } else {
-        format!("{} (uncertainty unknown)", sig(v))
-    }
-}
-
-/// Three significant digits, plain notation where readable.
-pub fn sig(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if (-4..6).contains(&mag) {
-        format!("{:.*}", (2 - mag).max(0) as usize, v)
-    } else {
-        format!("{v:.2e}")
-    }
-}
+pub use crate::physics::effects::{pm, sig};
 
 fn end_clause(s: &Signature) -> String {
     match (s.end_data_s, s.end_before_s) {
@@ -89,21 +46,15 @@ fn departure_words(d: &Diagnosis) -> String {
     }
 }
 
-/// A length given as a fraction of the outer radius, in mm.
-fn arm_mm(d: &Diagnosis, k_over_r: f64) -> String {
-    let r_mm = d.after.model.body.r * d.after.units.length_mm;
-    format!("{} mm", sig(k_over_r * r_mm))
-}
-
-/// Why the signature points to the named effect.
+/// Why the signature points to the named effect (its descriptor's words).
 fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     let s = &d.signature;
-    let strength = if d.after.effect == kind {
+    let (strength, strength_sigma) = if d.after.effect == kind {
         d.after.strength
     } else {
         d.after.also.iter().find(|(k, _)| *k == kind).map(|x| x.1)
     }
-    .map_or(f64::NAN, |x| x.0);
+    .unwrap_or((f64::NAN, f64::INFINITY));
     let late = if s.late_share > 0.5 {
         format!(
             " {:.0}% of the whole-run misfit beyond the noise lies in the last third.",
@@ -112,75 +63,22 @@ fn signature_words(kind: EffectKind, d: &Diagnosis) -> String {
     } else {
         String::new()
     };
-    match kind {
-        EffectKind::ReynoldsDrag => format!(
-            "Drag that depends on the speed changes the damping within every cycloid (fast arcs, slow cusps) and grows as the ring slows, most in the final spiral.{late}{} Constant coefficients cannot follow both the early and the late decay; C_i (Re_0/Re)^n can. This is the paper's own explanation of its long-lived simulated spiral (section III: as Re decreases the drag coefficients increase); laminar skin friction suggests n near 1/2.{}",
-            end_clause(s),
-            rim_share_clause(d)
-        ),
-        EffectKind::RollingFriction => format!(
-            "A rolling-resistance torque k F_N takes energy at a rate that does not grow with the square of the speed as air drag does, so the fitted drag cannot match the decay of the fast start and of the slow end together.{late}{} Here the normal force acts {} ahead of the contact point.",
-            end_clause(s),
-            arm_mm(d, strength)
-        ),
-        EffectKind::PivotFriction => format!(
-            "A drilling torque k F_N against the spin about the table normal slows the precession and turns the path's heading in a way the quadratic drag on the body's axes cannot imitate.{late}{} Here k = {} (contact-patch radius times a friction coefficient).",
-            end_clause(s),
-            arm_mm(d, strength)
-        ),
-        EffectKind::Slip => {
-            let slides = if s.slides_s.is_empty() {
-                "The improved model slides only briefly.".to_string()
-            } else {
-                let list: Vec<String> =
-                    s.slides_s.iter().take(6).map(|(a, b)| format!("{a:.3}-{b:.3} s")).collect();
-                format!(
-                    "The improved model slides {} time{} ({}{}), where rolling would need more friction than mu F_N: at the launch and at the cusps of the walk.",
-                    s.slides_s.len(),
-                    if s.slides_s.len() == 1 { "" } else { "s" },
-                    list.join(", "),
-                    if s.slides_s.len() > 6 { ", ..." } else { "" }
-                )
-            };
-            let held = if d.after.model.effects.slip_start == SlipStart::HeldRolling {
-                " The best fit starts held rolling: at the first frame rolling needs more friction than mu F_N, yet the recording shows no slide there; its contact rolls on until the demand has once come back within mu F_N and slides from where the demand next crosses it (as a contact started rolling and switched only where the demand crosses mu F_N, the way an event-driven simulator's hybrid contact does). A start that slides at once fits worse."
-            } else {
-                ""
-            };
-            let in_progress = match d.after.slip_start_mm_s() {
-                Some(v) if v != [0.0, 0.0] => format!(
-                    " Where the fit begins ({:.3} s) its contact already slips at {:.2} mm/s (a number of the fit: a slide can begin before the first frame fitted).",
-                    d.after.start_s,
-                    v[0].hypot(v[1])
-                ),
-                _ => String::new(),
-            };
-            format!(
-                "A slide displaces the path at once and for good, so a model that must roll drifts from the first slide on. {slides}{held}{in_progress} The paper names slippage at cuspy turning points as a cause of its drift."
-            )
-        }
-        EffectKind::TranslationalDrag => format!(
-            "Air drag on the centre of mass slows the travel of the ring while the rotational drag of eq. 5 acts on its spin; the two leave different marks on the path's arcs, which the drag coefficients alone cannot reproduce.{late}{}",
-            end_clause(s)
-        ),
-        EffectKind::CameraDistortion => format!(
-            "The mismatch depends on where the ring is in the image rather than on when: {:.0}% of the baseline's squared residual points along the radius from the image centre (50% would mean no preference), and {:.0}% of the correction is radial. That is a lens's radial distortion (barrel for k1 < 0), the paper's 'image distortions'; the dynamics are unchanged.",
-            100.0 * s.radial_share,
-            100.0 * s.change_radial_share
-        ),
-        EffectKind::CameraPerspective => {
-            let distance =
-                if strength > 0.0 { format!("{:.0} mm", 1000.0 / strength) } else { "far".into() };
-            let tilt = d.after.tilt_deg.map_or(String::new(), |(t, s)| {
-                format!(", tilted {} degrees from the vertical", pm(t, s))
-            });
-            format!(
-                "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.",
-                100.0 * s.radial_share
-            )
-        }
-        EffectKind::None => String::new(),
-    }
+    let extras = extras_of(&d.after.extras, kind);
+    let words = Words {
+        strength,
+        strength_sigma,
+        extras: &extras,
+        late: &late,
+        end: &end_clause(s),
+        radial_share: s.radial_share,
+        change_radial_share: s.change_radial_share,
+        r_mm: d.after.model.body.r * d.after.units.length_mm,
+        slides_s: &s.slides_s,
+        held_rolling: d.after.model.effects.slip_start == SlipStart::HeldRolling,
+        start_s: d.after.start_s,
+        slip_start_mm_s: d.after.slip_start_mm_s(),
+    };
+    (kind.descriptor().words)(&words)
 }
 
 /// The body's dimensions where they fit away from the header's (beyond 3 sigma and 0.5%).
@@ -401,21 +299,4 @@ fn residual_words(d: &Diagnosis) -> String {
         String::new()
     };
     format!("{late}{radial}{}", end_clause(s))
-}
-
-/// Which speed the fitted Reynolds number follows: the paper's (the centre's), the rim's, or
-/// a blend (`ReynoldsDrag::rim_share`).
-fn rim_share_clause(d: &Diagnosis) -> String {
-    let Some((v, s)) = d.after.rim_share else { return String::new() };
-    let which = if v < 0.1 {
-        "the centre's speed, as the paper has it"
-    } else if v > 0.9 {
-        "the rim's speed |omega| R rather than the centre's (the paper's)"
-    } else {
-        "a speed between the centre's (the paper's) and the rim's"
-    };
-    format!(
-        " The Reynolds number here follows {which}: the rim's share of its speed fits as {}.",
-        pm(v, s)
-    )
 }

@@ -25,10 +25,13 @@ pub struct ModelFit {
     pub c_sigma: [f64; 3],
     /// The effect's strength and its one-sigma uncertainty (infinite where unconstrained).
     pub strength: Option<(f64, f64)>,
-    /// The camera's tilt (degrees) and its sigma, where it was fitted.
+    /// The effects' extra numbers as fitted, with their sigmas (a pinhole's tilt in degrees,
+    /// the rim's share of `reynolds_drag`'s speed, ...: each effect's `Descriptor::extras`).
+    pub extras: Vec<ExtraFit>,
+    /// Two of `extras` by name, for the readers that name them: the camera's tilt (degrees)
+    /// and the rim's share of the speed of `reynolds_drag`'s Reynolds number (0: the centre's
+    /// speed, the paper's law), with their sigmas, where they were fitted.
     pub tilt_deg: Option<(f64, f64)>,
-    /// The rim's share of the speed of `reynolds_drag`'s Reynolds number and its sigma, where
-    /// it was fitted (0: the centre's speed, the paper's law).
     pub rim_share: Option<(f64, f64)>,
     /// Effects fitted beside `effect` (a pair's first), with their strengths and sigmas.
     pub also: Vec<(EffectKind, (f64, f64))>,
@@ -43,6 +46,32 @@ pub struct ModelFit {
     pub units: Units,
     /// When this model's motion ends (s), if within twice the recording's length.
     pub end_s: Option<f64>,
+}
+
+/// One extra number of an effect as fitted (`Descriptor::extras[index]` of `kind`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExtraFit {
+    pub kind: EffectKind,
+    pub index: usize,
+    /// Its value and one-sigma uncertainty.
+    pub value: (f64, f64),
+}
+
+impl ExtraFit {
+    /// Its key among a JSON report's fitted parameters, if it has one.
+    pub fn json(&self) -> Option<&'static str> {
+        self.kind.descriptor().extras[self.index].json
+    }
+
+    /// In the fit's words.
+    pub fn name(&self) -> &'static str {
+        self.kind.descriptor().extras[self.index].name
+    }
+}
+
+/// The extra numbers of `kind` among `extras`, in its descriptor's order.
+pub fn extras_of(extras: &[ExtraFit], kind: EffectKind) -> Vec<(f64, f64)> {
+    extras.iter().filter(|x| x.kind == kind).map(|x| x.value).collect()
 }
 
 impl ModelFit {

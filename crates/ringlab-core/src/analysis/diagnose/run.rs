@@ -12,7 +12,7 @@ use super::residual::{
 };
 use super::result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
-    Signature, Trace,
+    Signature, Trace, extras_of,
 };
 use super::rules::{bic, settled};
 use super::seen_camera::seen_camera;
@@ -541,8 +541,9 @@ fn describe(
         c: w.c,
         c_sigma: w.c_sigma,
         strength: w.strength,
-        tilt_deg: w.tilt_deg,
-        rim_share: w.rim_share,
+        extras: w.extras.clone(),
+        tilt_deg: extras_of(&w.extras, EffectKind::CameraPerspective).first().copied(),
+        rim_share: extras_of(&w.extras, EffectKind::ReynoldsDrag).first().copied(),
         also: w.also.clone(),
         body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
         start: Initial::from_state(&w.start),

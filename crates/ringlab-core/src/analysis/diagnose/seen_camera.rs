@@ -59,9 +59,11 @@ pub(super) fn seen_camera(
     evidence: f64,
     cancel: &AtomicBool,
 ) -> Result<Option<FoundCamera>, DiagnoseError> {
-    let kinds: Vec<EffectKind> = [EffectKind::CameraPerspective, EffectKind::CameraDistortion]
+    // The camera effects, the last listed first (the pinhole's numbers lead the fit's).
+    let kinds: Vec<EffectKind> = EffectKind::ALL
         .into_iter()
-        .filter(|k| offered.contains(k))
+        .rev()
+        .filter(|k| k.is_camera() && offered.contains(k))
         .collect();
     if kinds.is_empty() {
         return Ok(None);
@@ -69,10 +71,7 @@ pub(super) fn seen_camera(
     let mut sh = base.shooting(frames);
     let mu_max = crate::physics::slip::painleve_mu_limit(&sh.spec.base);
     for &k in &kinds {
-        sh.spec.free.push(Free::Effect(k));
-        if k == EffectKind::CameraPerspective {
-            sh.spec.free.push(Free::CameraTilt);
-        }
+        sh.spec.free.extend(Free::of_effect(k));
         sh.spec.strength_ranges.push((k, search_range(k, mu_max)));
     }
     let global = sh.spec.to_internal(&sh.spec.initial_values());
@@ -96,12 +95,7 @@ pub(super) fn seen_camera(
     for &k in &kinds {
         let at = |f: Free| sh.spec.free.iter().position(|g| *g == f);
         let Some(i) = at(Free::Effect(k)) else { continue };
-        let mine: Vec<usize> = match k {
-            EffectKind::CameraPerspective => {
-                [Some(i), at(Free::CameraTilt)].into_iter().flatten().collect()
-            }
-            _ => vec![i],
-        };
+        let mine: Vec<usize> = Free::of_effect(k).filter_map(at).collect();
         // The distance (or the lens) must be worth its number: a tilt alone is no pinhole,
         // and where the segments miss (a ring that slides) the tilt takes up some of it (a
         // sliding ring: the tilt 1.6 degrees at z^2 77, the distance 32 m at z^2 1.2).

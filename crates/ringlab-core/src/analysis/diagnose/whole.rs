@@ -7,6 +7,7 @@ use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{PredictedMarks, Shooting, predict_samples};
 use crate::analysis::fit::{Free, ModelSpec};
 use crate::physics::effects::EffectKind;
+use super::result::ExtraFit;
 use crate::physics::integrator::Tolerances;
 use crate::physics::slip::painleve_mu_limit;
 use crate::physics::{Model, Sample, StateVec};
@@ -39,10 +40,9 @@ pub struct WholeFit {
     pub c_sigma: [f64; 3],
     /// The effect's strength and its sigma (infinite where the data do not constrain it).
     pub strength: Option<(f64, f64)>,
-    /// The camera's tilt (degrees) and its sigma, where it was fitted (`camera_perspective`).
-    pub tilt_deg: Option<(f64, f64)>,
-    /// The rim's share of `reynolds_drag`'s speed and its sigma, where it was fitted.
-    pub rim_share: Option<(f64, f64)>,
+    /// The effects' extra numbers as fitted, with their sigmas (each effect's
+    /// `Descriptor::extras`).
+    pub extras: Vec<ExtraFit>,
     /// The body's outer radius and width (model units) and their sigmas.
     pub body: [(f64, f64); 2],
     /// The start state at the first frame of `span` (model units).
@@ -109,14 +109,8 @@ pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a>
     free.extend([Free::Body(0), Free::Body(1)]);
     let mu_max = painleve_mu_limit(&ms.spec.base);
     let mut strength_ranges = Vec::new();
-    for &kind in kinds.iter().filter(|&&k| k != EffectKind::None) {
-        free.push(Free::Effect(kind));
-        match kind {
-            EffectKind::CameraPerspective => free.push(Free::CameraTilt),
-            EffectKind::ReynoldsDrag => free.push(Free::ReynoldsRimShare),
-            EffectKind::Slip => free.extend([0, 1].map(Free::SlipStartVelocity)),
-            _ => {}
-        }
+    for &kind in kinds.iter().filter(|&&k| k.free_count() > 0) {
+        free.extend(Free::of_effect(kind));
         strength_ranges.push((kind, search_range(kind, mu_max)));
     }
     let mut run = ms.run.clone();
@@ -136,17 +130,8 @@ pub fn with_effects<'a>(ms: &Shooting<'a>, kinds: &[EffectKind]) -> Shooting<'a>
 /// effect's (a ring that skids through its whole run, drag ten times the paper's) and the runs
 /// crawl: a trial step there would cost a hundred ordinary ones.
 pub fn search_range(kind: EffectKind, mu_max: f64) -> (f64, f64) {
-    let (lo, hi) = kind.realistic_range();
-    match kind {
-        EffectKind::Slip => (0.25 * lo, 0.99 * mu_max),
-        EffectKind::CameraDistortion => {
-            let m = 4.0 * lo.abs().max(hi.abs());
-            (-m, m)
-        }
-        // Down to 100 mm from the table (2.5 ring diameters), up to orthographic.
-        EffectKind::CameraPerspective => (0.0, 10.0),
-        _ => (0.0, 4.0 * hi),
-    }
+    let d = kind.descriptor();
+    (d.search)(d.realistic, mu_max)
 }
 
 /// The multiple-shooting cost of `sh` at `global` with the segments' states held (infinite
@@ -305,8 +290,15 @@ pub fn fit_path(
         c: [values[0], values[1], values[2]],
         c_sigma: [sigma(0), sigma(1), sigma(2)],
         strength: (kind != EffectKind::None).then(|| value(Free::Effect(kind), f64::NAN)),
-        tilt_deg: at(Free::CameraTilt).map(|_| value(Free::CameraTilt, 0.0)),
-        rim_share: at(Free::ReynoldsRimShare).map(|_| value(Free::ReynoldsRimShare, 0.0)),
+        extras: sh
+            .spec
+            .free
+            .iter()
+            .filter_map(|f| match *f {
+                Free::Extra(k, i) => Some(ExtraFit { kind: k, index: i, value: value(*f, 0.0) }),
+                _ => None,
+            })
+            .collect(),
         also: kinds[..kinds.len().saturating_sub(1)]
             .iter()
             .map(|&k| (k, value(Free::Effect(k), f64::NAN)))

@@ -4,25 +4,31 @@
 //! there next; the linearization's first act was to run the model at that same point again,
 //! to keep its step ends for the columns (`physics::run`'s `steps.rs`). The evaluation now
 //! keeps its step ends and samples, and the linearization takes them where the point is the
-//! same to the bit: the same run, not made twice.
+//! same to the bit: the same run, not made twice. What a run is (`shooting::Prediction`) is
+//! the caller's: this file knows only the numbers a run was made at.
 
-use super::shooting::Prediction;
 use std::ops::Range;
 use std::sync::Mutex;
 
-/// The last run per segment index, with the numbers it ran at. A clone starts empty: a clone
-/// of a problem may change what a run depends on besides those numbers (the effects free, the
-/// slip start).
-#[derive(Debug, Default)]
-pub struct LastRuns(Mutex<Vec<Option<Kept>>>);
+/// The last run `R` per segment index, with the numbers it ran at. A clone starts empty: a
+/// clone of a problem may change what a run depends on besides those numbers (the effects
+/// free, the slip start).
+#[derive(Debug)]
+pub struct LastRuns<R>(Mutex<Vec<Option<Kept<R>>>>);
 
 #[derive(Debug)]
-struct Kept {
+struct Kept<R> {
     key: Vec<u64>,
-    run: Prediction,
+    run: R,
 }
 
-impl Clone for LastRuns {
+impl<R> Default for LastRuns<R> {
+    fn default() -> Self {
+        LastRuns(Mutex::new(Vec::new()))
+    }
+}
+
+impl<R> Clone for LastRuns<R> {
     fn clone(&self) -> Self {
         LastRuns::default()
     }
@@ -36,16 +42,9 @@ fn key(range: &Range<usize>, global: &[f64], local: &[f64]) -> Vec<u64> {
         .collect()
 }
 
-impl LastRuns {
+impl<R> LastRuns<R> {
     /// Keeps `run`, made for segment `s` (frames `range`) at `global` and `local`.
-    pub fn keep(
-        &self,
-        s: usize,
-        range: &Range<usize>,
-        global: &[f64],
-        local: &[f64],
-        run: Prediction,
-    ) {
+    pub fn keep(&self, s: usize, range: &Range<usize>, global: &[f64], local: &[f64], run: R) {
         let mut runs = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if runs.len() <= s {
             runs.resize_with(s + 1, || None);
@@ -54,13 +53,7 @@ impl LastRuns {
     }
 
     /// The run kept for segment `s` where it was made at these numbers (taken out).
-    pub fn take(
-        &self,
-        s: usize,
-        range: &Range<usize>,
-        global: &[f64],
-        local: &[f64],
-    ) -> Option<Prediction> {
+    pub fn take(&self, s: usize, range: &Range<usize>, global: &[f64], local: &[f64]) -> Option<R> {
         let mut runs = self.0.lock().unwrap_or_else(|e| e.into_inner());
         let slot = runs.get_mut(s)?;
         if slot.as_ref().is_some_and(|k| k.key == key(range, global, local)) {
@@ -75,21 +68,18 @@ impl LastRuns {
 mod tests {
     use super::*;
 
-    fn run(steps: u64) -> Prediction {
-        Prediction { samples: None, steps, step_ends: vec![0.5], ended_early: false }
-    }
-
     #[test]
     fn gives_a_run_back_only_at_the_same_numbers_and_once() {
-        let runs = LastRuns::default();
-        runs.keep(2, &(0..10), &[1.0, 2.0], &[3.0], run(7));
+        // A run here is its number of steps.
+        let runs = LastRuns::<u64>::default();
+        runs.keep(2, &(0..10), &[1.0, 2.0], &[3.0], 7);
         assert!(runs.take(2, &(0..10), &[1.0, 2.0 + 1e-15], &[3.0]).is_none());
         assert!(runs.take(2, &(0..11), &[1.0, 2.0], &[3.0]).is_none());
         assert!(runs.take(1, &(0..10), &[1.0, 2.0], &[3.0]).is_none());
-        assert_eq!(runs.take(2, &(0..10), &[1.0, 2.0], &[3.0]).map(|p| p.steps), Some(7));
+        assert_eq!(runs.take(2, &(0..10), &[1.0, 2.0], &[3.0]), Some(7));
         assert!(runs.take(2, &(0..10), &[1.0, 2.0], &[3.0]).is_none());
         // A clone starts empty.
-        runs.keep(0, &(0..10), &[1.0], &[], run(1));
+        runs.keep(0, &(0..10), &[1.0], &[], 1);
         assert!(runs.clone().take(0, &(0..10), &[1.0], &[]).is_none());
     }
 }

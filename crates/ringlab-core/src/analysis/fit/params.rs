@@ -2,14 +2,13 @@
 //!
 //! The drag coefficients are fitted as `ln C_i` (they are positive and span decades; a step
 //! in `ln C` is a relative change), and so are the body's dimensions where they are free (the
-//! diagnosis: a header's caliper readings are measurements too). An effect's strength
-//! (`physics::effects`) is fitted as it is, so that it can start at, and come out as, zero;
-//! `camera_distortion` sets the camera's `k1`, `camera_perspective` its distance (strength
-//! `1000 mm / D`, 0 orthographic) with the tilt a number of its own, every other effect the
-//! physics.
+//! diagnosis: a header's caliper readings are measurements too). An effect's strength and its
+//! extra numbers (`physics::effects`, each effect's file) are fitted as they are, so that they
+//! can start at, and come out as, zero; each effect's descriptor says what they set in the
+//! physics or the camera.
 
-use crate::physics::effects::{self, EffectKind};
-use crate::physics::{Model, SlipStart};
+use crate::physics::effects::{self, ApplyAt, EffectKind, Role, Step};
+use crate::physics::Model;
 use crate::recording::Camera;
 
 /// One free global parameter.
@@ -19,35 +18,31 @@ pub enum Free {
     Drag(usize),
     /// The strength of an effect.
     Effect(EffectKind),
+    /// The `i`th extra number of an effect (`Descriptor::extras`: a pinhole's tilt, the rim's
+    /// share of Reynolds drag's speed, a slide in progress at the start), beside its strength.
+    Extra(EffectKind, usize),
     /// A dimension of the body (model units): 0 the outer radius `R`, 1 the width `h`.
     Body(usize),
-    /// The camera's tilt from the vertical (degrees), beside `camera_perspective`'s distance.
-    CameraTilt,
-    /// The rim's share of the speed that sets `reynolds_drag`'s Reynolds number (0 to 1,
-    /// `ReynoldsDrag::rim_share`), beside its exponent.
-    ReynoldsRimShare,
-    /// The slip velocity at the fit's start (model units), 0 along the heading and 1 across
-    /// it, beside `slip`'s `mu` (`Effects::slip_start_velocity`): a slide in progress where
-    /// the recording begins.
-    SlipStartVelocity(usize),
 }
 
-/// The largest camera tilt a fit may try (degrees): beyond, a lab would not call the camera
-/// one that looks down on the table.
-pub const MAX_FITTED_TILT_DEG: f64 = 30.0;
+/// The largest camera tilt a fit may try (degrees).
+pub use crate::physics::effects::camera_perspective::MAX_FITTED_TILT_DEG;
 
 impl Free {
     pub fn name(&self) -> String {
         match self {
             Free::Drag(i) => format!("C{}", i + 1),
             Free::Effect(k) => format!("{k} strength"),
+            Free::Extra(k, i) => k.descriptor().extras[*i].name.into(),
             Free::Body(0) => "R".into(),
             Free::Body(_) => "h".into(),
-            Free::CameraTilt => "camera tilt (deg)".into(),
-            Free::ReynoldsRimShare => "reynolds_drag rim share".into(),
-            Free::SlipStartVelocity(0) => "slip velocity at the start, along".into(),
-            Free::SlipStartVelocity(_) => "slip velocity at the start, across".into(),
         }
+    }
+
+    /// An effect's strength followed by its extra numbers, as a fit frees them.
+    pub fn of_effect(kind: EffectKind) -> impl Iterator<Item = Free> {
+        let extras = kind.descriptor().extras.len();
+        std::iter::once(Free::Effect(kind)).chain((0..extras).map(move |i| Free::Extra(kind, i)))
     }
 }
 
@@ -103,10 +98,7 @@ impl ModelSpec {
             .zip(values)
             .map(|(f, v)| match f {
                 Free::Drag(_) | Free::Body(_) => v.max(1e-12).ln(),
-                Free::Effect(_)
-                | Free::CameraTilt
-                | Free::ReynoldsRimShare
-                | Free::SlipStartVelocity(_) => *v,
+                Free::Effect(_) | Free::Extra(..) => *v,
             })
             .collect()
     }
@@ -118,10 +110,7 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_)
-                | Free::CameraTilt
-                | Free::ReynoldsRimShare
-                | Free::SlipStartVelocity(_) => *x,
+                Free::Effect(_) | Free::Extra(..) => *x,
             })
             .collect()
     }
@@ -133,30 +122,20 @@ impl ModelSpec {
             .zip(internal)
             .map(|(f, x)| match f {
                 Free::Drag(_) | Free::Body(_) => x.exp(),
-                Free::Effect(_)
-                | Free::CameraTilt
-                | Free::ReynoldsRimShare
-                | Free::SlipStartVelocity(_) => 1.0,
+                Free::Effect(_) | Free::Extra(..) => 1.0,
             })
             .collect()
     }
 
     /// The values of the free parameters in the base model and camera.
     pub fn initial_values(&self) -> Vec<f64> {
+        let (effects, camera) = (&self.base.effects, &self.camera.numbers());
         self.free
             .iter()
             .map(|f| match f {
                 Free::Drag(i) => self.base.c_drag[*i],
-                Free::Effect(EffectKind::CameraDistortion) => self.camera.k1,
-                Free::Effect(EffectKind::CameraPerspective) => {
-                    self.camera.distance_mm.map_or(0.0, |d| 1000.0 / d)
-                }
-                Free::Effect(_) => 0.0,
-                Free::CameraTilt => self.camera.tilt_rad.to_degrees(),
-                Free::ReynoldsRimShare => {
-                    self.base.effects.reynolds_drag.map_or(0.0, |r| r.rim_share)
-                }
-                Free::SlipStartVelocity(i) => self.base.effects.slip_start_velocity[*i],
+                Free::Effect(k) => (k.descriptor().read)(effects, camera),
+                Free::Extra(k, i) => (k.descriptor().extras[*i].read)(effects, camera),
                 Free::Body(0) => self.base.body.r,
                 Free::Body(_) => self.base.body.h,
             })
@@ -187,55 +166,41 @@ impl ModelSpec {
             let w = if b.shape == crate::physics::Shape::Disk { r } else { b.w };
             model.body = crate::physics::Body::new(b.shape, r, h, w).ok()?;
         }
+        let at = ApplyAt { r: model.body.r, re_centre: self.re_start.centre, re_rim: self.re_start.rim };
+        let mut numbers = camera.numbers();
         for (f, &v) in self.free.iter().zip(&values) {
-            match f {
-                Free::Drag(i) => model.c_drag[*i] = v,
-                Free::Effect(EffectKind::CameraDistortion) => {
-                    if v.abs() > 0.5 || self.out_of_range(EffectKind::CameraDistortion, v) {
-                        return None;
-                    }
-                    camera.k1 = v;
-                }
-                Free::Effect(EffectKind::CameraPerspective) => {
-                    if v < 0.0 || self.out_of_range(EffectKind::CameraPerspective, v) {
-                        return None;
-                    }
-                    camera.distance_mm = (v > 0.0).then(|| 1000.0 / v);
-                }
-                Free::CameraTilt => {
-                    if v.abs() > MAX_FITTED_TILT_DEG {
-                        return None;
-                    }
-                    camera.tilt_rad = v.to_radians();
-                }
+            match *f {
+                Free::Drag(i) => model.c_drag[i] = v,
                 Free::Effect(kind) => {
-                    if self.out_of_range(*kind, v) {
+                    if self.out_of_range(kind, v) {
                         return None;
                     }
-                    effects::apply(
-                        *kind,
-                        v,
-                        model.body.r,
-                        self.re_start.centre,
-                        &mut model.effects,
-                    )
-                    .ok()?;
+                    let d = kind.descriptor();
+                    match d.role {
+                        Role::Physical => {
+                            effects::apply_at(kind, v, &at, &mut model.effects).ok()?;
+                        }
+                        Role::Camera => {
+                            if !(d.camera)(v, &mut numbers) {
+                                return None;
+                            }
+                        }
+                        Role::Nothing => {}
+                    }
                 }
-                // After the exponent (its `Free` comes later): where that is zero the drag
-                // has no Reynolds law for the share to shape.
-                Free::ReynoldsRimShare => {
-                    if !(0.0..=1.0).contains(&v) {
+                // After the strength (its `Free` comes first).
+                Free::Extra(kind, i) => {
+                    let x = &kind.descriptor().extras[i];
+                    if !(x.bounds.0..=x.bounds.1).contains(&v)
+                        || !(x.write)(v, &at, &mut model.effects, &mut numbers)
+                    {
                         return None;
                     }
-                    if let Some(r) = model.effects.reynolds_drag.as_mut() {
-                        r.rim_share = v;
-                        r.re_ref = self.re_start.blended(v).max(1e-9);
-                    }
                 }
-                Free::SlipStartVelocity(i) => model.effects.slip_start_velocity[*i] = v,
                 Free::Body(_) => {}
             }
         }
+        camera.set_numbers(&numbers);
         Some((model, camera))
     }
 
@@ -249,34 +214,39 @@ impl ModelSpec {
         match self.free[i] {
             Free::Drag(_) | Free::Body(_) => 1e-6,
             Free::Effect(_) => 1e-6 * x.abs().max(1e-3),
-            Free::CameraTilt => 1e-5,
-            Free::SlipStartVelocity(_) => 1e-6,
-            // Into the box from either bound.
-            Free::ReynoldsRimShare => {
-                if x > 0.5 {
-                    -1e-6
-                } else {
-                    1e-6
+            Free::Extra(k, j) => {
+                let extra = &k.descriptor().extras[j];
+                match extra.step {
+                    Step::Fixed(h) => h,
+                    // Into the box from the nearer bound.
+                    Step::IntoBox(h) => {
+                        if x > 0.5 * (extra.bounds.0 + extra.bounds.1) {
+                            -h
+                        } else {
+                            h
+                        }
+                    }
                 }
             }
         }
     }
 
-    /// Internal coordinates brought into the box of the bounded parameters (the rim's share
-    /// of the Reynolds speed, 0 to 1): a least-squares step that would leave it stops at the
-    /// bound, the rest of the step kept. The paper's law sits at a bound (share 0), so without
-    /// this every step towards a law the share cannot make would be refused whole.
-    ///
-    /// A start held rolling has no slide in progress: there the slip velocity at the start is
-    /// held at zero, a box of one point (its runs ignore it, and the least squares would move
-    /// a number the residuals do not see by their rounding divided by the damping).
+    /// Internal coordinates brought into the box of the bounded numbers (`Extra::projected`,
+    /// as the rim's share of the Reynolds speed, 0 to 1): a least-squares step that would leave
+    /// it stops at the bound, the rest of the step kept. The paper's law sits at a bound (share
+    /// 0), so without this every step towards a law the share cannot make would be refused
+    /// whole. A number the model holds at zero (`Extra::held_at_zero`: the slip velocity at a
+    /// start held rolling) is a box of one point (its runs ignore it, and the least squares
+    /// would move a number the residuals do not see by their rounding divided by the damping).
     pub fn project(&self, internal: &mut [f64]) {
-        let held = self.base.effects.slip_start == SlipStart::HeldRolling;
         for (f, x) in self.free.iter().zip(internal.iter_mut()) {
-            match f {
-                Free::ReynoldsRimShare => *x = x.clamp(0.0, 1.0),
-                Free::SlipStartVelocity(_) if held => *x = 0.0,
-                _ => {}
+            if let Free::Extra(k, j) = *f {
+                let extra = &k.descriptor().extras[j];
+                if (extra.held_at_zero)(&self.base.effects) {
+                    *x = 0.0;
+                } else if extra.projected {
+                    *x = x.clamp(extra.bounds.0, extra.bounds.1);
+                }
             }
         }
     }
@@ -285,14 +255,13 @@ impl ModelSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::{Effects, paper};
+    use crate::physics::{Effects, SlipStart, paper};
 
     fn slip_spec(start: SlipStart) -> ModelSpec {
         let effects = Effects { slip_start: start, ..Default::default() };
         let base = paper::ring_model(paper::C_RING).with_effects(effects).expect("valid");
         let mut free: Vec<Free> = (0..3).map(Free::Drag).collect();
-        free.extend([Free::Effect(EffectKind::Slip)]);
-        free.extend([0, 1].map(Free::SlipStartVelocity));
+        free.extend(Free::of_effect(EffectKind::Slip));
         ModelSpec {
             base,
             camera: Camera::centred(3.0, 1280.0, 1024.0),

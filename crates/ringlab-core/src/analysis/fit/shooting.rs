@@ -40,7 +40,7 @@ pub struct Shooting<'a> {
     pub budget: Option<Arc<WorkBudget>>,
     /// Each segment's last run, for the Jacobian at that point ([`LastRuns`]); a clone's is
     /// empty.
-    pub last_runs: LastRuns,
+    pub last_runs: LastRuns<Prediction>,
 }
 
 /// A cap on the integration steps of one fit, shared by the threads that work for it. Once it

@@ -8,7 +8,6 @@ use super::shooting::{OneSegment, Shooting, predict_samples};
 use crate::physics::model::ix;
 use crate::physics::{Initial, Model, RunOptions, Simulation, StateVec, TurnKind};
 use crate::recording::recover::RecoveredMotion;
-use nalgebra::Vector3;
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
 
@@ -144,8 +143,7 @@ pub(super) fn start_at_turning_point(
     y0: &StateVec,
 ) -> (Initial, f64) {
     let t0 = f0 as f64 * dt;
-    let w = Vector3::new(y0[ix::W1], y0[ix::W2], y0[ix::W3]);
-    let theta_ddot = model.dynamics(y0[ix::THETA], &w).omega_dot.x;
+    let theta_ddot = model.dynamics_of(y0).omega_dot.x;
     let vertex = if theta_ddot > 0.0 { -y0[ix::W1] / theta_ddot } else { f64::INFINITY };
     if (-0.5 * dt..=0.0).contains(&vertex) {
         return (Initial::from_state(y0), t0);

@@ -13,7 +13,7 @@ use super::model::{Initial, Model, SlipStart, StateVec, ix};
 use super::slip::{
     SlideVec, SlidingModel, VX, VY, onset_direction, sliding_state, slip_velocity, stick_margin,
 };
-use nalgebra::Vector3;
+
 use std::sync::Arc;
 use steps::{FOLLOW_MAX_ERR, Steps};
 use switch::Switch;
@@ -219,7 +219,7 @@ impl Simulation {
         }
         // A start with theta' = 0 is itself a turning point (the paper starts at one).
         if y0[ix::W1] == 0.0 {
-            let d = sim.model().dynamics(y0[ix::THETA], &Vector3::new(0.0, y0[ix::W2], y0[ix::W3]));
+            let d = sim.model().dynamics_of(&[y0[0], y0[1], y0[2], 0.0, y0[ix::W2], y0[ix::W3], y0[6], y0[7]]);
             let kind = if d.omega_dot.x >= 0.0 { TurnKind::ThetaMin } else { TurnKind::ThetaMax };
             sim.turning_points.push(TurningPoint { kind, sample: sim.final_sample });
         }

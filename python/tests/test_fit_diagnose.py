@@ -1,0 +1,185 @@
+"""ringlab.fit and ringlab.diagnose: the same answers as the CLI's (its JSON, field for field,
+when the CLI is built; the figures it printed, recorded in data/expected.json, always), a
+shared independent recording diagnosed as its truth says, progress, and the errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import ringlab
+from conftest import DATA, EXPECTED, diagnosis_of, fit_of_sample, needs_cli, run_cli
+
+INDEPENDENT = ["glitches", "two-effects"]
+
+
+def truth(name: str):
+    return json.loads((DATA / "independent" / "truth.json").read_text())[name]
+
+
+@pytest.mark.parametrize("name", INDEPENDENT)
+def test_an_independent_recording_is_diagnosed_as_its_truth_says(name):
+    d = diagnosis_of(name)
+    said = sorted(d.left_out_all) if d.left_out_all else [d.left_out]
+    assert said == sorted(truth(name)["left_out"]), d.explanation
+    assert abs(d.noise_px / truth(name)["noise_px"] - 1) < 0.2
+    assert d.after.rms_px <= d.before.rms_px
+    assert d.candidates[0].name in {c.name for c in d.candidates}
+    assert "left_out=" in repr(d)
+
+
+@pytest.mark.parametrize("name", INDEPENDENT)
+def test_the_diagnosis_gives_the_figures_the_cli_printed(name):
+    want = EXPECTED[f"diagnose independent/{name}.csv"]
+    d = diagnosis_of(name)
+    got = {
+        "left_out": d.left_out,
+        "left_out_all": d.left_out_all,
+        "before.rms_px": round(d.before.rms_px, 3),
+        "after.rms_px": round(d.after.rms_px, 3),
+        "noise_px": round(d.noise_px, 3),
+        "glitches": d.glitches,
+        "frames_fitted": d.frames_fitted,
+    }
+    assert got == want
+
+
+@needs_cli
+@pytest.mark.parametrize("name", INDEPENDENT)
+def test_the_diagnosis_is_the_cli_s_json(name):
+    cli = json.loads(run_cli(["diagnose", str(DATA / "independent" / f"{name}.csv"), "--json"]))
+    mine = diagnosis_of(name).to_dict()
+    cli.pop("compute_seconds"), mine.pop("compute_seconds")
+    assert list(mine) == list(cli)  # the same names, in the same order
+    assert mine == cli  # and the same numbers, to the last bit
+
+
+def test_the_fit_gives_the_figures_the_cli_printed():
+    want = EXPECTED["fit sample-ring.csv"]
+    f = fit_of_sample()
+    assert [round(c, 5) for c in f.c] == want["c"]
+    assert round(f.rms_px, 4) == want["rms_px"]
+    assert (f.frames_fitted, f.segments) == (want["frames_fitted"], want["segments"])
+
+
+@needs_cli
+def test_the_fit_is_the_cli_s_json():
+    cli = json.loads(run_cli(["fit", str(DATA / "sample-ring.csv"), "--json"]))
+    mine = fit_of_sample().to_dict()
+    cli.pop("compute_seconds"), mine.pop("compute_seconds")
+    assert list(mine) == list(cli)
+    assert mine == cli
+
+
+def test_result_objects_are_typed():
+    d = diagnosis_of("two-effects")
+    assert isinstance(d.before, ringlab.ModelFit) and isinstance(d.candidates[0], ringlab.Candidate)
+    assert d.after.effect in d.left_out_all
+    assert d.after.params["C1"] > 0
+    assert isinstance(d.mismatch, ringlab.MismatchWindow)
+    assert all(isinstance(p, ringlab.PairCandidate) for p in d.pairs)
+    g = diagnosis_of("glitches")
+    assert len(g.glitch_marks) == g.glitches and isinstance(g.glitch_marks[0], ringlab.Glitch)
+    assert g.glitch_marks[0].kind in ("outlier", "swapped")
+    f = fit_of_sample()
+    assert isinstance(f, ringlab.FitResult) and len(f.c) == 3 and f.effect is None
+
+
+def test_progress_reaches_a_callback_on_the_calling_thread():
+    import threading
+
+    seen = []
+    rec = ringlab.synth(t_end=20.0, seed=5)
+    main = threading.get_ident()
+    ringlab.fit(rec, progress=lambda f, m: seen.append((f, m, threading.get_ident())), coarse=False)
+    assert seen, "no progress reported"
+    assert all(0.0 <= f <= 1.0 and isinstance(m, str) for f, m, _ in seen)
+    assert {t for _, _, t in seen} == {main}
+
+
+def test_an_exception_in_the_callback_stops_the_work():
+    rec = ringlab.synth(t_end=20.0, seed=5)
+
+    def stop(fraction, message):
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        ringlab.fit(rec, progress=stop)
+
+
+def test_the_gil_is_released_while_it_runs():
+    import threading
+    import time
+
+    rec = ringlab.Recording.read(DATA / "sample-ring.csv")
+    done = threading.Event()
+    results = []
+
+    def work():
+        try:
+            results.append(ringlab.fit(rec, progress=False, coarse=False))
+        finally:
+            done.set()
+
+    worker = threading.Thread(target=work)
+    start = time.perf_counter()
+    worker.start()
+    counted = 0
+    while not done.is_set():
+        counted += 1  # pure Python on this thread, while the fit runs on the other
+    worker.join()
+    elapsed = time.perf_counter() - start
+    assert results and elapsed > 0.2, elapsed
+    # Held by the fit, the GIL would let this loop run only at the 50 ms polls.
+    assert counted > 10_000 * elapsed, (counted, elapsed)
+
+
+def test_a_path_is_read_first():
+    d = ringlab.fit(DATA / "sample-ring.csv", progress=False, coarse=False, merges=0)
+    assert d.frames == 1884
+
+
+# --- errors -------------------------------------------------------------------------------------
+
+
+def test_bad_parameters_are_value_errors():
+    rec = ringlab.synth(t_end=10.0)
+    for call, message in [
+        (lambda: ringlab.fit(rec, effect="wind"), "effect 'wind' is not one of"),
+        (lambda: ringlab.fit(rec, c_start=(0.1, 0.1)), "expected C1, C2, C3"),
+        (lambda: ringlab.fit(rec, c_start=(0.1, -1, 0.1)), "every coefficient must be a positive number"),
+        (lambda: ringlab.fit(rec, lens_k1=float("inf")), "lens_k1 = inf"),
+        (lambda: ringlab.fit(rec, merges=-1), "merges = -1"),
+        (lambda: ringlab.fit(rec, threads=0), "threads = 0"),
+        (lambda: ringlab.fit(rec, progress="yes"), "progress = 'yes'"),
+        (lambda: ringlab.diagnose(rec, candidates=["slip", "magic"]), "'magic' is not one of"),
+        (lambda: ringlab.diagnose(rec, evidence=-1), "evidence = -1: must be a number >= 0"),
+        (lambda: ringlab.synth(noise_px=-1), "noise_px = -1 must be a number >= 0"),
+        (lambda: ringlab.synth(fps=0), "fps = 0 must be a positive number"),
+        (lambda: ringlab.synth(effect="slip"), "effect slip needs effect_strength"),
+        (lambda: ringlab.synth(effect_strength=0.2), "effect_strength needs effect"),
+        (lambda: ringlab.synth(effect_extras=[1.0]), "effect_extras needs effect"),
+        (lambda: ringlab.synth(effect="reynolds_drag", effect_strength=-2), "invalid effect"),
+        (lambda: ringlab.synth(camera_distance_mm=10), "camera distance = 10 mm must exceed"),
+        (lambda: ringlab.synth(drop_marks=1.5), "missing fraction = 1.5"),
+        (lambda: ringlab.synth(slip_start="held"), "slip_start needs the effect slip"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert message in str(e.value), (message, str(e.value))
+    with pytest.raises(TypeError, match="ringlab.Recording or a path"):
+        ringlab.fit(42)  # type: ignore[arg-type]
+
+
+def test_a_recording_that_cannot_be_fitted_is_a_fit_error():
+    # Three seconds of a ring lying still: no motion to fit.
+    marks = np.tile(ringlab.Recording.read(DATA / "sample-ring.csv").marks[-1], (900, 1, 1))
+    rec = ringlab.Recording.from_arrays(marks, fps=300, px_per_mm=3.364764, body="paper-ring")
+    with pytest.raises(ringlab.FitError) as e:
+        ringlab.fit(rec, progress=False)
+    assert str(e.value).startswith("fitting arrays: ")
+    with pytest.raises(ringlab.FitError) as e:
+        ringlab.diagnose(rec, progress=False)
+    assert str(e.value).startswith("diagnosing arrays: ")
