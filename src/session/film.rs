@@ -4,10 +4,10 @@
 //! fitted or diagnosed.
 
 use super::job::{JobContext, Progress};
-use super::loaded::{LoadError, LoadedRecording};
+use super::loaded::{FilmOrigin, LoadError, LoadedRecording};
 use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::shooting::predict_samples;
-use crate::film::{FilmError, FilmErrorKind, TrackOptions, TrackReport, TrackedFilm, track};
+use crate::film::{FilmError, FilmErrorKind, TrackOptions, TrackedFilm, track};
 use crate::physics::RunOptions;
 use crate::physics::model::ix;
 use crate::recording::import::{ImportError, ImportErrorKind, ImportOptions, ImportReport, Source};
@@ -19,16 +19,6 @@ use std::sync::Arc;
 /// The model's four marks in pixels per stored frame of the recording (`None` where it has
 /// none): what is drawn over the film.
 pub type ModelMarks = Vec<Option<[[f64; 2]; 4]>>;
-
-/// Where a recording came from when it was tracked from a film.
-#[derive(Clone, Debug)]
-pub struct FilmOrigin {
-    /// The video file or folder of frames.
-    pub path: PathBuf,
-    /// How it was tracked (`from_frame`: the film's frame of the recording's first).
-    pub options: TrackOptions,
-    pub report: TrackReport,
-}
 
 /// The tracking's options for the window: what the import options give (the body, a frame
 /// rate where the film has none), the marks' style told from the film, the scale measured
