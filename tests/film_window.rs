@@ -14,6 +14,7 @@ mod common;
 
 use common::Dropped;
 use common::drawing::{drawing_builder, snapshot_options};
+use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ringlab::config::load_preset;
@@ -205,4 +206,47 @@ fn the_film_is_exported_with_its_overlay() {
         .expect("ffprobe runs");
     assert_eq!(String::from_utf8_lossy(&probe.stdout).trim(), frames.to_string());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The film panel's Tracking section: a frame range typed and Track again track the film
+/// anew with it (the recording then starts at the first frame given and stops at the last);
+/// a bad field is named and nothing is tracked.
+#[test]
+fn the_film_is_tracked_again_with_the_frames_given() {
+    if !have_ffmpeg() {
+        return;
+    }
+    let mut h = Harness::builder()
+        .with_size([1480.0, 920.0])
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app());
+    h.run_steps(2);
+    h.input_mut().dropped_files.push(Arc::new(Dropped(film())));
+    h.run_steps(3);
+    let whole = h.state().recording.loaded().expect("tracked").frames().len();
+    h.get_by_label("Tracking").click();
+    h.run_steps(2);
+    // The section's fields in their order: first frame, last frame, region, scale.
+    let set = |h: &mut Harness<'_, RinglabApp>, field: usize, text: &str| {
+        let fields: Vec<_> = h.get_all_by_role(egui::accesskit::Role::TextInput).collect();
+        assert_eq!(fields.len(), 4, "the Tracking section's four fields");
+        fields[field].set_text_value_accesskit(text);
+        h.run_steps(2);
+    };
+    set(&mut h, 0, "4x");
+    h.get_by_label("Track again").click();
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("first frame '4x'").is_some(), "the bad field is named");
+    let f = h.state().recording.film().expect("film").options.clone();
+    assert_eq!((f.from_frame, f.to_frame), (0, None), "nothing tracked with a bad field");
+    set(&mut h, 0, "40");
+    set(&mut h, 1, "160");
+    h.get_by_label("Track again").click();
+    h.run_steps(4);
+    let app = h.state();
+    assert!(app.recording.error.is_none(), "{:?}", app.recording.error);
+    let f = app.recording.film().expect("tracked again");
+    assert_eq!((f.options.from_frame, f.options.to_frame), (40, Some(160)));
+    let l = app.recording.loaded().expect("the new recording");
+    assert!(l.frames().len() <= 121 && l.frames().len() < whole, "{} frames", l.frames().len());
+    assert!(l.recording.first_frame >= 40, "first frame {}", l.recording.first_frame);
 }

@@ -83,3 +83,34 @@ fn no_vulkan_driver_is_a_clear_error() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("no Vulkan graphics adapter"), "{err}");
 }
+
+/// A film given as the app view's recording is tracked with the case's body (the film says
+/// nothing of it) and drawn; before, the import dialog's question stopped it silently.
+#[test]
+fn a_film_is_drawn_with_the_cases_body() {
+    if ringlab::film::source::find_program("ffmpeg").is_none() {
+        assert!(std::env::var("CI").is_err(), "ffmpeg is not on PATH in CI");
+        return;
+    }
+    let film = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/video/colours-none-mid.mp4");
+    let path = out_dir().join("film.png");
+    let out = ringlab(&[
+        "render",
+        "--view",
+        "app",
+        "--preset",
+        "steel-ring",
+        "--recording",
+        film,
+        "--time",
+        "0.2",
+        "--width",
+        "800",
+        "--height",
+        "500",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(image::open(&path).expect("a PNG").to_rgba8().dimensions(), (800, 500));
+}

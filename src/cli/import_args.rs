@@ -4,6 +4,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use ringlab::config::load_preset;
+use ringlab::film::{MarkStyle, Roi, TrackOptions};
 use ringlab::physics::Shape;
 use ringlab::recording::import::{BodyMm, Format, ImportOptions, Imported, LengthUnit, import};
 use std::path::PathBuf;
@@ -55,7 +56,7 @@ pub struct ImportArgs {
     #[arg(long)]
     pub y_up: bool,
     #[command(flatten)]
-    pub film: super::track::FilmArgs,
+    pub film: super::film_args::FilmArgs,
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -63,6 +64,43 @@ fn list(s: &str) -> Vec<String> {
 }
 
 impl ImportArgs {
+    /// The tracking options from the shared flags. `--marks` names the marks' style for a film.
+    pub fn track_options(&self) -> Result<TrackOptions> {
+        let (import, film) = (self, &self.film);
+        let style = match import.marks.as_deref() {
+            None => MarkStyle::Auto,
+            Some(s) => MarkStyle::parse(s).with_context(|| {
+                format!("--marks '{s}': for a film, one of {}", MarkStyle::NAMES)
+            })?,
+        };
+        let roi = film
+            .roi
+            .as_deref()
+            .map(|r| {
+                Roi::parse(r)
+                    .with_context(|| format!("--roi '{r}': not X,Y,W,H (pixels, W and H positive)"))
+            })
+            .transpose()?;
+        let o = import.options()?;
+        let body = o.body.context(
+            "a film does not say the body: give --preset NAME (see `ringlab presets`) or --shape, --outer-radius-mm, --width-mm, --thickness-mm",
+        )?;
+        if let Some(to) = film.to_frame
+            && to < film.from_frame
+        {
+            bail!("--to-frame {to} comes before --from-frame {}", film.from_frame);
+        }
+        Ok(TrackOptions {
+            style,
+            roi,
+            from_frame: film.from_frame,
+            to_frame: film.to_frame,
+            fps: o.fps,
+            px_per_mm: o.px_per_mm,
+            body,
+        })
+    }
+
     /// The format named by `--from`.
     pub fn format(&self) -> Result<Option<Format>> {
         self.from
@@ -172,9 +210,9 @@ pub fn load_film(
     args: &ImportArgs,
     file: &std::path::Path,
 ) -> Result<ringlab::recording::Recording> {
-    let opts = super::track::options(args, &args.film)?;
-    let tracked = super::track::track_film(file, &opts)?;
-    for line in super::track::describe(&tracked) {
+    let opts = args.track_options()?;
+    let tracked = super::film_args::track_film(file, &opts)?;
+    for line in super::film_args::describe(&tracked) {
         eprintln!("{line}");
     }
     Ok(tracked.recording)

@@ -12,6 +12,7 @@ pub mod diagnose_bench;
 pub mod diagnose_json;
 pub mod diagnose_report;
 pub mod effect_args;
+pub mod film_args;
 pub mod fit;
 pub mod import;
 pub mod import_args;

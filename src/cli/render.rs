@@ -8,6 +8,7 @@ use ringlab::config::{Case, CaseFile, load_preset};
 use ringlab::export::mp4::find_ffmpeg;
 use ringlab::export::picture::save_png;
 use ringlab::export::{Aim, ExportError, VideoFormat, VideoSpec, write_video};
+use ringlab::recording::import::BodyMm;
 use ringlab::render::{Gpu, OrbitCamera};
 use ringlab::session::DiagnosedModel;
 use ringlab::ui::diagnose_panel::DiagnoseAction;
@@ -194,6 +195,8 @@ fn frame_source(gpu: &Gpu, args: &RenderArgs, until: Option<f64>) -> Result<Fram
                 settings.compare_case = f.clone();
             }
             let mut app = RinglabApp::new(settings, Mode::Fixed { seconds: 0.0 });
+            // A film (or a tracker's file) says nothing of the body: the case's is taken.
+            app.recording.import_options.body = BodyMm::of_case(&file).ok();
             if let Some(path) = &args.recording {
                 open_recording(&mut app, path, args.fit)?;
                 if args.diagnose {
@@ -304,6 +307,9 @@ fn open_recording(app: &mut RinglabApp, path: &Path, fit: bool) -> Result<()> {
     app.finish_recording_jobs();
     if let Some(e) = app.recording.error.take() {
         bail!("{e}");
+    }
+    if let Some(p) = app.recording.pending_import() {
+        bail!("{}", p.error);
     }
     if fit {
         app.act_on_recording(RecordingAction::Fit);

@@ -4,10 +4,10 @@
 //! fitted or diagnosed.
 
 use super::job::{JobContext, Progress};
-use super::loaded::{LoadError, LoadedRecording};
+use super::loaded::{FilmOrigin, LoadError, LoadedRecording};
 use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::shooting::predict_samples;
-use crate::film::{FilmError, FilmErrorKind, TrackOptions, TrackReport, TrackedFilm, track};
+use crate::film::{FilmError, FilmErrorKind, TrackOptions, TrackedFilm, track};
 use crate::physics::RunOptions;
 use crate::physics::model::ix;
 use crate::recording::import::{ImportError, ImportErrorKind, ImportOptions, ImportReport, Source};
@@ -19,16 +19,6 @@ use std::sync::Arc;
 /// The model's four marks in pixels per stored frame of the recording (`None` where it has
 /// none): what is drawn over the film.
 pub type ModelMarks = Vec<Option<[[f64; 2]; 4]>>;
-
-/// Where a recording came from when it was tracked from a film.
-#[derive(Clone, Debug)]
-pub struct FilmOrigin {
-    /// The video file or folder of frames.
-    pub path: PathBuf,
-    /// How it was tracked (`from_frame`: the film's frame of the recording's first).
-    pub options: TrackOptions,
-    pub report: TrackReport,
-}
 
 /// The tracking's options for the window: what the import options give (the body, a frame
 /// rate where the film has none), the marks' style told from the film, the scale measured
@@ -155,6 +145,18 @@ impl super::RecordingSession {
             self.pending_import = Some(super::PendingImport { error: missing_body(&path), path });
             return;
         };
+        let p = path.clone();
+        let read = move |ctx: &JobContext| track_and_load(&p, options, ctx);
+        self.loading = Some((path, super::Job::start("track-film", self.background, read)));
+    }
+
+    /// Tracks the open film again with other options (the film panel's Tracking: the marks'
+    /// style, the frames, the region, the scale); the recording it gives replaces this one.
+    pub fn track_film_again(&mut self, options: TrackOptions) {
+        let Some(path) = self.film().map(|f| f.path.clone()) else { return };
+        self.error = None;
+        self.note = None;
+        self.pending_import = None;
         let p = path.clone();
         let read = move |ctx: &JobContext| track_and_load(&p, options, ctx);
         self.loading = Some((path, super::Job::start("track-film", self.background, read)));

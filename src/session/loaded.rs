@@ -1,12 +1,12 @@
 //! A recording read and its motion recovered, and the cases the simulator adopts from it
 //! (the model started from the data; the fitted model; the diagnosis's models).
 
-use super::film::FilmOrigin;
 use crate::analysis::diagnose::ModelFit;
 use crate::analysis::fit::FitResult;
 use crate::config::{
     BodySection, CaseFile, DragSection, EffectsSection, InitialSection, RunSection, UnitsSection,
 };
+use crate::film::{TrackOptions, TrackReport};
 use crate::physics::model::ix;
 use crate::physics::{Body, EffectKind, Initial, Units, paper};
 use crate::recording::import::{Format, ImportError, ImportOptions, ImportReport, import};
@@ -15,6 +15,16 @@ use crate::recording::{Recording, RecoveredMotion, recover};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use thiserror::Error;
+
+/// Where a recording came from when it was tracked from a film.
+#[derive(Clone, Debug)]
+pub struct FilmOrigin {
+    /// The video file or folder of frames.
+    pub path: PathBuf,
+    /// How it was tracked (`from_frame`: the film's frame of the recording's first).
+    pub options: TrackOptions,
+    pub report: TrackReport,
+}
 
 /// Why a recording could not be opened (the read error names the file and the line).
 #[derive(Debug, Error, Clone, PartialEq)]

@@ -20,10 +20,10 @@ mod loaded;
 pub mod overlay;
 
 pub use diagnosing::Diagnosed;
-pub use film::{FilmOrigin, ModelMarks, diagnosed_marks};
+pub use film::{ModelMarks, diagnosed_marks};
 pub use film_frames::FilmFrames;
 pub use fitting::describe_fit_progress;
-pub use loaded::{LoadError, LoadedRecording};
+pub use loaded::{FilmOrigin, LoadError, LoadedRecording};
 
 use crate::analysis::diagnose::{DiagnoseError, Diagnosis};
 use crate::analysis::fit::{FitError, FitResult};

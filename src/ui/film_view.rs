@@ -54,6 +54,8 @@ pub struct FilmView {
     texture: Option<(Shown, egui::TextureHandle)>,
     /// The whole frame, not only where the ring goes.
     pub whole: bool,
+    /// The Tracking section's fields.
+    tracking: super::film_tracking::TrackingForm,
 }
 
 impl FilmView {
@@ -162,6 +164,9 @@ impl RinglabApp {
             ui.checkbox(whole, RichText::new("whole frame").small())
                 .on_hover_text("the whole frame, not only where the ring goes");
         });
+        let busy = self.recording.loading_progress().is_some();
+        let again =
+            super::film_tracking::film_tracking_ui(ui, &mut self.film_view.tracking, film, busy);
         let legend = if model.is_some() {
             "circles: the tracked marks, orange: their path of A; white crosses: the model's marks, cyan: its path"
         } else {
@@ -170,6 +175,10 @@ impl RinglabApp {
         ui.label(RichText::new(legend).small());
         if let Some(e) = self.recording.film_error() {
             ui.colored_label(ui.visuals().error_fg_color, RichText::new(e).small());
+        }
+        if let Some(options) = again {
+            self.recording.track_film_again(options);
+            return;
         }
         let Some((i, frame)) = self.recording.film_frame() else {
             ui.horizontal(|ui| {

@@ -19,6 +19,7 @@ pub use crate::render::adapter::{adapt_to_adapter, on_software_adapter};
 pub use crate::render::lean_paint;
 mod app_recording;
 mod file_actions;
+mod film_tracking;
 mod film_view;
 pub mod frames;
 pub mod menus;

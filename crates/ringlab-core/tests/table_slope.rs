@@ -55,7 +55,10 @@ fn a_table_tilted_two_tenths_of_a_degree_is_named_with_its_angle_and_direction()
     let off = (toward - direction + 180.0).rem_euclid(360.0) - 180.0;
     assert!(off.abs() < 20.0, "direction {toward}: {}", d.explanation);
     assert!(d.after.rms_px < 1.3 * d.noise_px, "{} px: {}", d.after.rms_px, d.explanation);
-    assert!(d.explanation.contains("the table is not level") || d.explanation.contains("The table is not level"));
+    assert!(
+        d.explanation.contains("the table is not level")
+            || d.explanation.contains("The table is not level")
+    );
     assert!(d.explanation.contains("falls 0.2"), "{}", d.explanation);
 }
 
@@ -64,11 +67,13 @@ fn a_table_tilted_two_tenths_of_a_degree_is_named_with_its_angle_and_direction()
 /// frame at a time, each frame with the slope where the ring is).
 fn dished_recording(deg_per_radius: f64) -> ringlab_core::recording::Recording {
     let (case, opts, _) = concealed_case(EffectKind::None, 2).expect("a case");
-    let dt = 1.0 / opts.fps / ringlab_core::physics::Conversion::between(
-        case.units,
-        ringlab_core::physics::Units::MM_S,
-    )
-    .time;
+    let dt = 1.0
+        / opts.fps
+        / ringlab_core::physics::Conversion::between(
+            case.units,
+            ringlab_core::physics::Units::MM_S,
+        )
+        .time;
     let centre = [case.initial.x_c + 1.5, case.initial.y_c - 1.0];
     let mut model = case.model.clone();
     let mut y = case.initial.to_state();

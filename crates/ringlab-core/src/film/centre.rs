@@ -25,10 +25,12 @@ pub struct Centre {
     pub chroma: [f64; 2],
     /// Standard error of the centre from the pixels' noise (px, each coordinate).
     pub sigma: f64,
+    /// Colour marks: the blob's fitted width (px); dots: zero.
+    pub width: f64,
 }
 
 const MIN_WIDTH: f64 = 0.5;
-const MAX_WIDTH: f64 = 4.0;
+pub const MAX_WIDTH: f64 = 4.0;
 
 /// The chroma window, the sloping background and the blob, for one centre and width.
 struct ChromaWindow {
@@ -106,11 +108,18 @@ impl ChromaWindow {
     }
 }
 
-/// A coloured mark's centre from both chroma planes, starting at `(x, y)`; `None` where the
-/// window leaves the frame or the fit runs off (more than `reach` px from the start).
-pub fn colour_centre(frame: &Frame, x: f64, y: f64, width: f64, reach: f64) -> Option<Centre> {
+/// A coloured mark's centre from both chroma planes, starting at `(x, y)` and the blob's
+/// width `width` (px), which may grow to `widest`; `None` where the window leaves the frame or
+/// the fit runs off (more than `reach` px from the start).
+pub fn colour_centre(
+    frame: &Frame,
+    (x, y): (f64, f64),
+    (width, widest): (f64, f64),
+    reach: f64,
+) -> Option<Centre> {
     let win = ChromaWindow::new(frame, x, y, 4)?;
-    let mut p = [0.0, 0.0, width.clamp(MIN_WIDTH, MAX_WIDTH)];
+    let widest = widest.clamp(MIN_WIDTH, MAX_WIDTH);
+    let mut p = [0.0, 0.0, width.clamp(MIN_WIDTH, widest)];
     let (mut g, mut r0, mut r1) = (Vec::new(), Vec::new(), Vec::new());
     let eval = |p: &[f64; 3], g: &mut Vec<f64>, r: &mut Vec<f64>| {
         win.blob(p[0], p[1], p[2], g);
@@ -143,7 +152,7 @@ pub fn colour_centre(frame: &Frame, x: f64, y: f64, width: f64, reach: f64) -> O
         for k in 0..3 {
             q[k] += step[k].clamp(-1.0, 1.0);
         }
-        q[2] = q[2].clamp(MIN_WIDTH, MAX_WIDTH);
+        q[2] = q[2].clamp(MIN_WIDTH, widest);
         let cost0: f64 = r0.iter().map(|v| v * v).sum();
         let mut r_new = Vec::new();
         let amp_new = eval(&q, &mut g, &mut r_new)?;
@@ -166,7 +175,14 @@ pub fn colour_centre(frame: &Frame, x: f64, y: f64, width: f64, reach: f64) -> O
     let s2 = r0.iter().map(|v| v * v).sum::<f64>() / dof;
     let cov = jtj.try_inverse()?;
     let sigma = ((cov[(0, 0)] + cov[(1, 1)]) / 2.0 * s2).sqrt();
-    Some(Centre { x: x + p[0], y: y + p[1], strength: amp[0].hypot(amp[1]), chroma: amp, sigma })
+    Some(Centre {
+        x: x + p[0],
+        y: y + p[1],
+        strength: amp[0].hypot(amp[1]),
+        chroma: amp,
+        sigma,
+        width: p[2],
+    })
 }
 
 /// Whether a dot is darker or brighter than what it sits on.
@@ -254,7 +270,14 @@ pub fn dot_centre(
         cy = ny;
         // Each pixel's noise moves the centroid by (x_i - x) / W; half the spread per axis.
         let sigma = noise * (spread / 2.0).sqrt() / sw;
-        result = Some(Centre { x: cx, y: cy, strength: sw / n as f64, chroma: [0.0; 2], sigma });
+        result = Some(Centre {
+            x: cx,
+            y: cy,
+            strength: sw / n as f64,
+            chroma: [0.0; 2],
+            sigma,
+            width: 0.0,
+        });
         if moved < 1e-3 {
             break;
         }
@@ -301,7 +324,7 @@ mod tests {
     fn a_coloured_disc_is_found_to_a_fifth_of_a_pixel_beside_a_dark_edge() {
         for (cx, cy) in [(30.3, 31.7), (32.5, 29.25), (31.0, 33.9)] {
             let f = frame_with_disc(cx, cy, [220.0, 30.0, 30.0], true);
-            let c = colour_centre(&f, cx + 0.8, cy - 0.7, 1.2, 4.0).expect("found");
+            let c = colour_centre(&f, (cx + 0.8, cy - 0.7), (1.2, MAX_WIDTH), 4.0).expect("found");
             assert!((c.x - cx).hypot(c.y - cy) < 0.2, "({cx}, {cy}) -> ({}, {})", c.x, c.y);
             assert!(c.chroma[1] > 20.0, "red: Cr up, {:?}", c.chroma);
         }
@@ -322,6 +345,6 @@ mod tests {
     fn nothing_is_found_off_the_frame() {
         let f = frame_with_disc(30.0, 30.0, [20.0, 20.0, 20.0], false);
         assert!(dot_centre(&f.luma_plane(), Polarity::Dark, 1.0, 1.0, 3.0, 4.0).is_none());
-        assert!(colour_centre(&f, 1.0, 62.0, 1.2, 4.0).is_none());
+        assert!(colour_centre(&f, (1.0, 62.0), (1.2, MAX_WIDTH), 4.0).is_none());
     }
 }

@@ -5,7 +5,7 @@
 //! was and, for colours, of its hue. A mark that cannot be told from another is left out and
 //! counted, never swapped.
 
-use super::centre::{Centre, Polarity, colour_centre, dot_centre};
+use super::centre::{Centre, MAX_WIDTH, Polarity, colour_centre, dot_centre};
 use super::find::{Found, find_marks_sized};
 use super::frame::{CHROMA_OFFSET, Frame};
 use super::{MarkStyle, Roi};
@@ -29,8 +29,8 @@ struct MarkState {
     strength: f64,
     /// Colour marks: the hue (radians in the Cb, Cr plane).
     hue: f64,
-    /// Colour marks: the blob's width (px).
-    width: f64,
+    /// Colour marks: the blob's typical fitted width (px); `None` until first fitted.
+    width: Option<f64>,
 }
 
 /// The follower's state between frames.
@@ -57,6 +57,8 @@ pub struct Follower {
 }
 
 const HISTORY: usize = 4;
+/// A coloured mark's blob may be fitted up to this many times its typical width.
+const WIDEST: f64 = 1.6;
 /// Discs tried: the dot's radius as first measured plus these (px). The parallelogram's gap
 /// cannot see an error common to the four marks (the light's side darkens each dot alike), and
 /// a disc inside the dot's blurred edge has one: none is tried inside it.
@@ -116,7 +118,7 @@ impl Follower {
             history: vec![(index, [c.x, c.y])],
             strength: 0.0,
             hue: c.chroma[1].atan2(c.chroma[0]),
-            width: 1.2,
+            width: None,
         });
         let d1 = [
             (found.marks[0].x - found.marks[2].x) / 2.0,
@@ -148,7 +150,7 @@ impl Follower {
                 f.marks[k].history = vec![(index, [c.x, c.y])];
                 if style == MarkStyle::Colours {
                     f.marks[k].hue = c.chroma[1].atan2(c.chroma[0]);
-                    f.marks[k].width = 1.2;
+                    f.marks[k].width = Some(c.width);
                 }
             } else {
                 f.marks[k].strength = found.marks[k].strength;
@@ -271,7 +273,15 @@ impl Follower {
 
     fn centre_at(&self, frame: &Frame, x: f64, y: f64, k: usize, reach: f64) -> Option<Centre> {
         match self.style {
-            MarkStyle::Colours => colour_centre(frame, x, y, self.marks[k].width, reach),
+            MarkStyle::Colours => {
+                // A blob far wider than the mark has been is the rim or the table's grain the
+                // fit ran to (small marks in a compressed film): the width stays near the mark's.
+                let widths = match self.marks[k].width {
+                    Some(w) => (w, (WIDEST * w).max(1.0)),
+                    None => (1.2, MAX_WIDTH),
+                };
+                colour_centre(frame, (x, y), widths, reach)
+            }
             _ => dot_centre(&frame.luma_plane(), self.polarity, x, y, self.disc, reach),
         }
     }
@@ -527,6 +537,9 @@ impl Follower {
                     m.history.remove(0);
                 }
                 m.strength = 0.9 * m.strength + 0.1 * c.strength;
+                if self.style == MarkStyle::Colours {
+                    m.width = Some(m.width.map_or(c.width, |w| 0.9 * w + 0.1 * c.width));
+                }
             }
         }
         self.choose_disc(frame, &out.marks);

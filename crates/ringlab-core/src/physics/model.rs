@@ -6,9 +6,9 @@
 //! [`Effects`], the one seam through which extra physics enters.
 
 use super::body::{Body, ParamError, check_finite, check_non_negative, check_positive};
+pub use super::effects::Effects;
 pub use super::effects::reynolds_drag::ReynoldsDrag;
 pub use super::effects::slip::SlipStart;
-pub use super::effects::Effects;
 use super::integrator::System;
 use super::trig::sin_cos;
 use nalgebra::Vector3;

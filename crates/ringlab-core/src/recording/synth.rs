@@ -173,8 +173,15 @@ impl SynthOptions {
         {
             let mut numbers = camera.numbers();
             let (at, mut effects) = (effects::ApplyAt::new(1.0, 1.0), Default::default());
-            if effects::apply_with_extras(kind, s, &self.effect_extras, &at, &mut effects, &mut numbers)
-                .is_ok()
+            if effects::apply_with_extras(
+                kind,
+                s,
+                &self.effect_extras,
+                &at,
+                &mut effects,
+                &mut numbers,
+            )
+            .is_ok()
             {
                 camera.set_numbers(&numbers);
             }

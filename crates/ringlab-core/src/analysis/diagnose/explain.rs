@@ -1,10 +1,10 @@
 //! The diagnosis in plain words: what was left out, how the mismatch's signature points to
 //! it, and the fitted parameter; numbers from the diagnosis itself.
 
+use super::result::extras_of;
 use super::result::{Diagnosis, Finding, ModelFit, Signature};
 use super::rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
 use crate::physics::SlipStart;
-use super::result::extras_of;
 use crate::physics::effects::{EffectKind, Words};
 use std::fmt::Write;
 

@@ -3,11 +3,11 @@
 //! one is left (see the module doc of `analysis::diagnose` for why).
 
 use super::options::SLIP_TOLERANCES;
+use super::result::ExtraFit;
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{PredictedMarks, Shooting, predict_samples};
 use crate::analysis::fit::{Free, ModelSpec};
 use crate::physics::effects::EffectKind;
-use super::result::ExtraFit;
 use crate::physics::integrator::Tolerances;
 use crate::physics::slip::painleve_mu_limit;
 use crate::physics::{Model, Sample, StateVec};

@@ -7,8 +7,8 @@
 //! can start at, and come out as, zero; each effect's descriptor says what they set in the
 //! physics or the camera.
 
-use crate::physics::effects::{self, ApplyAt, EffectKind, Role, Step};
 use crate::physics::Model;
+use crate::physics::effects::{self, ApplyAt, EffectKind, Role, Step};
 use crate::recording::Camera;
 
 /// One free global parameter.
@@ -166,7 +166,8 @@ impl ModelSpec {
             let w = if b.shape == crate::physics::Shape::Disk { r } else { b.w };
             model.body = crate::physics::Body::new(b.shape, r, h, w).ok()?;
         }
-        let at = ApplyAt { r: model.body.r, re_centre: self.re_start.centre, re_rim: self.re_start.rim };
+        let at =
+            ApplyAt { r: model.body.r, re_centre: self.re_start.centre, re_rim: self.re_start.rim };
         let mut numbers = camera.numbers();
         for (f, &v) in self.free.iter().zip(&values) {
             match *f {

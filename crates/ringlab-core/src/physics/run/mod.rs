@@ -219,7 +219,16 @@ impl Simulation {
         }
         // A start with theta' = 0 is itself a turning point (the paper starts at one).
         if y0[ix::W1] == 0.0 {
-            let d = sim.model().dynamics_of(&[y0[0], y0[1], y0[2], 0.0, y0[ix::W2], y0[ix::W3], y0[6], y0[7]]);
+            let d = sim.model().dynamics_of(&[
+                y0[0],
+                y0[1],
+                y0[2],
+                0.0,
+                y0[ix::W2],
+                y0[ix::W3],
+                y0[6],
+                y0[7],
+            ]);
             let kind = if d.omega_dot.x >= 0.0 { TurnKind::ThetaMin } else { TurnKind::ThetaMax };
             sim.turning_points.push(TurningPoint { kind, sample: sim.final_sample });
         }
