@@ -16,7 +16,7 @@ use super::result::{
 };
 use super::rules::{bic, settled};
 use super::seen_camera::seen_camera;
-use super::select::{forward_selection, through_seen_kinds};
+use super::select::{Selection, forward_selection, through_seen_kinds};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
@@ -76,23 +76,23 @@ pub fn diagnose(
     let noise = noise.with_correlation(&baseline, &ms, tracks.noise.as_ref());
     laps.lap("baseline over the whole run");
     let again = Again::new(rec, &fit_opts, seen.as_ref());
-    let (departure, baseline, fits) = candidates_and_departure(
-        &again, &ms, &base, baseline, &levels, &noise, opts, progress, cancel,
-    )?;
+    let run = Run { opts, progress, cancel };
+    let (departure, baseline, fits) =
+        candidates_and_departure(&run, &again, &ms, &base, baseline, &levels, &noise)?;
     laps.lap("candidates and departure");
     let select = |ranked: &mut [(Candidate, Option<&WholeFit>)], noise: &Noise| {
-        forward_selection(
-            &again,
-            &ms,
-            &levels,
-            &baseline,
-            ranked,
-            noise.px,
-            noise.dependence(),
-            opts.evidence,
+        let sel = Selection {
+            again: &again,
+            ms: &ms,
+            levels: &levels,
+            baseline: &baseline,
+            noise_px: noise.px,
+            dependence: noise.dependence(),
+            evidence: opts.evidence,
             progress,
             cancel,
-        )
+        };
+        forward_selection(&sel, ranked)
     };
     let mut ranked = rank(&baseline, &fits, noise.dependence());
     let (mut finding, mut chosen, mut pairs) = select(&mut ranked, &noise)?;
@@ -112,18 +112,9 @@ pub fn diagnose(
     progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
     let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
-    let mut d = describe(
-        rec,
-        &tracks,
-        &base,
-        &ms,
-        &baseline,
-        chosen,
-        &departure,
-        &noise,
-        opts.evidence,
-        laps.take(),
-    )?;
+    let decided =
+        Decided { baseline: &baseline, chosen, departure: &departure, noise: &noise, evidence: opts.evidence };
+    let mut d = describe(&tracks, &base, &ms, decided, laps.take())?;
     d.explanation = explain(&d);
     laps.lap("residuals, signature, words");
     d.stage_seconds.extend(laps.take());
@@ -308,6 +299,24 @@ fn baseline_path(
     fit_baseline(ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)
 }
 
+/// One diagnosis's options (its suspects), progress bar and cancel flag.
+#[derive(Clone, Copy)]
+struct Run<'a> {
+    opts: &'a DiagnoseOptions,
+    progress: &'a Reporter<'a>,
+    cancel: &'a AtomicBool,
+}
+
+/// What the decision leaves to be described: the baseline, the model chosen, where the
+/// baseline departs, the noise and the evidence asked.
+struct Decided<'a> {
+    baseline: &'a WholeFit,
+    chosen: Chosen<'a>,
+    departure: &'a Departure,
+    noise: &'a Noise,
+    evidence: f64,
+}
+
 /// Candidate fits, each effect in turn.
 type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
 
@@ -316,18 +325,16 @@ type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
 /// candidate that still misses fitted again through the camera it found, then every effect
 /// through the camera the segments see (where they see one), and the best physical ones
 /// walked again.
-#[allow(clippy::too_many_arguments)]
 fn candidates_and_departure(
+    run: &Run,
     again: &Again,
     ms: &Shooting,
     base: &FitResult,
     baseline: WholeFit,
     levels: &[Level],
     noise: &Noise,
-    opts: &DiagnoseOptions,
-    progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<(Departure, WholeFit, Fits), DiagnoseError> {
+    let Run { opts, progress, cancel } = *run;
     let (noise_px, width) = (noise.px, noise.window_frames);
     let follows_whole =
         departure::follows(ms, &baseline, baseline.span.clone(), noise.level(), width);
@@ -444,19 +451,15 @@ fn rank<'a>(
 
 /// Stage 6: the residuals before and after, the mismatch windows, the signature, the trace:
 /// everything the words, the report and the window show.
-#[allow(clippy::too_many_arguments)]
 fn describe(
-    rec: &Recording,
     tracks: &CheckedTracks,
     base: &FitResult,
     ms: &Shooting,
-    baseline: &WholeFit,
-    chosen: Chosen,
-    departure: &Departure,
-    noise: &Noise,
-    evidence: f64,
+    decided: Decided,
     stage_seconds: Vec<(&'static str, f64)>,
 ) -> Result<Diagnosis, DiagnoseError> {
+    let rec = &tracks.recording;
+    let Decided { baseline, chosen, departure, noise, evidence } = decided;
     let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
     let (noise_px, width, noise_from_marks) = (noise.px, noise.window_frames, noise.from_marks);
     let n = baseline.residual_count;

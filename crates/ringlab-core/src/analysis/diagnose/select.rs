@@ -17,191 +17,341 @@ use crate::physics::effects::EffectKind;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 
+/// What the forward selection works with: the problem, the baseline's path and solution, the
+/// noise and the evidence asked, the progress bar and the cancel flag.
+pub(super) struct Selection<'a> {
+    pub(super) again: &'a Again<'a>,
+    pub(super) ms: &'a Shooting<'a>,
+    pub(super) levels: &'a [Level],
+    pub(super) baseline: &'a WholeFit,
+    pub(super) noise_px: f64,
+    /// The noise's dependence from frame to frame (`Noise::dependence`), for the BIC.
+    pub(super) dependence: f64,
+    pub(super) evidence: f64,
+    pub(super) progress: &'a Reporter<'a>,
+    pub(super) cancel: &'a AtomicBool,
+}
+
+/// The pairs (and larger models) fitted so far, and those walked again.
+#[derive(Default)]
+struct Pairs {
+    fits: Vec<PairFit>,
+    walked: Vec<Vec<EffectKind>>,
+}
+
+impl Pairs {
+    /// Fits of several effects, each as a pair of its first and last effect.
+    fn extend(&mut self, fits: Vec<WholeFit>) {
+        for p in fits {
+            let first = p.also.first().map_or(p.kind, |x| x.0);
+            self.fits.push((first, p.kind, Ok(p)));
+        }
+    }
+}
+
+/// The finding, the model that stands for it (`None`: the baseline) and the pairs tried.
+pub(super) type Selected = (Finding, Option<WholeFit>, Vec<PairCandidate>);
+
 /// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
 /// single one, leaves the misfit beyond the noise, pairs of the candidates that improved on
-/// the baseline; a pair is named only when it beats every effect alone. Returns the finding,
-/// the model that stands for it (`None`: the baseline) and the pairs tried.
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+/// the baseline; a pair is named only when it beats every effect alone. Where the segments see
+/// a camera, every effect through that camera first, and the pairs only where none of those
+/// settles the recording (a pair walked from the baseline's path starts from segments fitted
+/// through the wrong camera). Each step runs only where none before it has settled it.
 pub(super) fn forward_selection(
-    again: &Again,
-    ms: &Shooting,
-    levels: &[Level],
-    baseline: &WholeFit,
+    sel: &Selection,
     ranked: &mut [(Candidate, Option<&WholeFit>)],
-    noise_px: f64,
-    dependence: f64,
-    evidence: f64,
-    progress: &Reporter,
-    cancel: &AtomicBool,
-) -> Result<(Finding, Option<WholeFit>, Vec<PairCandidate>), DiagnoseError> {
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
-    let none_score = score(baseline);
-    let (mut finding, chosen) = decide(baseline, ranked, noise_px, evidence);
-    let mut chosen = chosen.unwrap_or(baseline);
-    // Forward selection: where the named effect, or no single one, leaves the misfit beyond the
-    // noise, pairs of the candidates that improved on the baseline; where the segments see a
-    // camera, every effect through that camera first, and the pairs only where none of those
-    // settles the recording (a pair walked from the baseline's path starts from segments
-    // fitted through the wrong camera: a pinhole beside translational drag, 1.71 px that way,
-    // 0.499 px through the camera seen, against 0.495 px of noise).
-    let pairs_fitted = chosen.rms_px() > CONSISTENT_RATIO * noise_px;
-    let mut pair_fits: Vec<PairFit> = Vec::new();
-    let mut walked = Vec::new();
-    let through_seen = again.seen.filter(|_| pairs_fitted);
-    if let Some(seen) = through_seen {
-        progress.pair_again("every effect through the camera the segments see", false);
+) -> Result<Selected, DiagnoseError> {
+    let (finding, chosen) = decide(sel.baseline, ranked, sel.noise_px, sel.evidence);
+    let chosen = chosen.unwrap_or(sel.baseline);
+    let pairs_fitted = chosen.rms_px() > CONSISTENT_RATIO * sel.noise_px;
+    let through_seen = sel.again.seen.filter(|_| pairs_fitted);
+    let mut pairs = Pairs::default();
+    if pairs_fitted {
+        sel.through_seen_camera(through_seen, chosen, ranked, &mut pairs)?;
+        sel.pairs_then_added(ranked, &mut pairs)?;
+    }
+    sel.chosen_through_seen_camera(through_seen, chosen, &mut pairs)?;
+    if pairs_fitted && through_seen.is_none() {
+        sel.slip_through_lead_camera(ranked, &mut pairs)?;
+    }
+    if pairs_fitted {
+        sel.others_through_cameras(through_seen, ranked, &mut pairs)?;
+    }
+    sel.walk_best_pair_again(&mut pairs)?;
+    let trimmed = sel.trimmed(&pairs)?;
+    let best_pair = trimmed.as_ref().or_else(|| sel.best_of(&pairs));
+    let (finding, chosen) = sel.name(finding, chosen, best_pair, ranked)?;
+    Ok((finding, chosen, sel.pair_candidates(&pairs)))
+}
+
+impl Selection<'_> {
+    fn score(&self, w: &WholeFit) -> f64 {
+        bic(w.cost, self.baseline.residual_count, w.parameter_count, self.dependence)
+    }
+
+    /// Every effect through the camera the segments see (`through_seen`): the chosen one with
+    /// the camera free, then the others, most promising first.
+    fn through_seen_camera(
+        &self,
+        through_seen: Option<&FoundCamera>,
+        chosen: &WholeFit,
+        ranked: &[(Candidate, Option<&WholeFit>)],
+        pairs: &mut Pairs,
+    ) -> Result<(), DiagnoseError> {
+        let Some(seen) = through_seen else { return Ok(()) };
+        self.progress.pair_again("every effect through the camera the segments see", false);
         let kinds: Vec<EffectKind> =
             [camera_free(chosen.kind)].into_iter().chain(through_seen_kinds(ranked)).collect();
-        for p in effects_through_camera(again, ms, seen, &kinds, noise_px, cancel)? {
-            let first = p.also.first().map_or(p.kind, |x| x.0);
-            pair_fits.push((first, p.kind, Ok(p)));
+        pairs.extend(effects_through_camera(
+            self.again,
+            self.ms,
+            seen,
+            &kinds,
+            self.noise_px,
+            self.cancel,
+        )?);
+        Ok(())
+    }
+
+    /// The pairs ([`pairs_stage`]), then each other effect added to the best one's solution
+    /// ([`added_to_best`]), each where nothing before it settled the recording.
+    fn pairs_then_added(
+        &self,
+        ranked: &[(Candidate, Option<&WholeFit>)],
+        pairs: &mut Pairs,
+    ) -> Result<(), DiagnoseError> {
+        if !settles(&pairs.fits, self.noise_px) {
+            let (more, walked) = pairs_stage(
+                self.again,
+                self.ms,
+                self.levels,
+                ranked,
+                self.noise_px,
+                self.progress,
+                self.cancel,
+            )?;
+            pairs.fits.extend(more);
+            pairs.walked = walked;
         }
+        if !settles(&pairs.fits, self.noise_px) {
+            self.progress.pair_again("each other effect added to the best one's solution", false);
+            added_to_best(self.ms, ranked, &mut pairs.fits, self.noise_px, self.cancel)?;
+        }
+        Ok(())
     }
-    if pairs_fitted && !settles(&pair_fits, noise_px) {
-        let (more, w) = pairs_stage(again, ms, levels, ranked, noise_px, progress, cancel)?;
-        pair_fits.extend(more);
-        walked = w;
-    }
-    if pairs_fitted && !settles(&pair_fits, noise_px) {
-        progress.pair_again("each other effect added to the best one's solution", false);
-        added_to_best(ms, ranked, &mut pair_fits, noise_px, cancel)?;
-    }
-    let pair_score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
-    // A camera the segments see that the model chosen so far lacks (part of): that model's
-    // effect fitted through it, the camera then free beside it, as a pair; tried even where the
-    // model ends within the noise's margin (a weak lens beside rolling friction: rolling
-    // friction alone 0.52 px against 0.495 px of noise, the lens's k1 at z^2 1,000 in the
-    // segments; a lens beside a pinhole, the pinhole alone 0.55 px).
-    if let Some(seen) = again.seen.filter(|_| through_seen.is_none()) {
+
+    /// A camera the segments see that the model chosen so far lacks (part of): that model's
+    /// effect fitted through it, the camera then free beside it, as a pair; tried even where
+    /// the model ends within the noise's margin (a weak lens beside rolling friction, a lens
+    /// beside a pinhole).
+    fn chosen_through_seen_camera(
+        &self,
+        through_seen: Option<&FoundCamera>,
+        chosen: &WholeFit,
+        pairs: &mut Pairs,
+    ) -> Result<(), DiagnoseError> {
+        let Some(seen) = self.again.seen.filter(|_| through_seen.is_none()) else { return Ok(()) };
         let held = chosen.kinds();
         if seen.numbers.iter().any(|(k, _)| !held.contains(k)) {
-            progress.pair_again("the chosen model through the camera the segments see", false);
+            self.progress.pair_again("the chosen model through the camera the segments see", false);
             let kinds = [camera_free(chosen.kind)];
-            for p in effects_through_camera(again, ms, seen, &kinds, noise_px, cancel)? {
-                let first = p.also.first().map_or(p.kind, |x| x.0);
-                pair_fits.push((first, p.kind, Ok(p)));
-            }
+            pairs.extend(effects_through_camera(
+                self.again,
+                self.ms,
+                seen,
+                &kinds,
+                self.noise_px,
+                self.cancel,
+            )?);
         }
+        Ok(())
     }
-    let found = |lead: &WholeFit| again.seen.cloned().unwrap_or_else(|| FoundCamera::of(lead));
-    if pairs_fitted
-        && !settles(&pair_fits, noise_px)
-        && through_seen.is_none()
-        && let Some(lead) =
-            camera_lead_without_slip(ranked, &pair_fits, baseline, noise_px, again.seen.is_some())
-        && let Some(p) = {
-            progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
-            slip_through_camera(again, ms, &found(lead), noise_px, cancel)?
+
+    /// The camera a fit found: the one the segments see, else its own.
+    fn found(&self, lead: &WholeFit) -> FoundCamera {
+        self.again.seen.cloned().unwrap_or_else(|| FoundCamera::of(lead))
+    }
+
+    /// Where a camera effect leads and slip did not improve alone, slip through that camera
+    /// ([`slip_through_camera`]).
+    fn slip_through_lead_camera(
+        &self,
+        ranked: &[(Candidate, Option<&WholeFit>)],
+        pairs: &mut Pairs,
+    ) -> Result<(), DiagnoseError> {
+        if settles(&pairs.fits, self.noise_px) {
+            return Ok(());
         }
-    {
-        pair_fits.push((lead.kind, EffectKind::Slip, Ok(p)));
+        let seen = self.again.seen.is_some();
+        let Some(lead) =
+            camera_lead_without_slip(ranked, &pairs.fits, self.baseline, self.noise_px, seen)
+        else {
+            return Ok(());
+        };
+        self.progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
+        if let Some(p) =
+            slip_through_camera(self.again, self.ms, &self.found(lead), self.noise_px, self.cancel)?
+        {
+            pairs.fits.push((lead.kind, EffectKind::Slip, Ok(p)));
+        }
+        Ok(())
     }
-    if pairs_fitted
-        && let Some(lead) =
-            camera_lead_still_missing(ranked, &pair_fits, noise_px, again.seen.is_some())
-    {
-        // Through the camera the segments see, then, where that leaves every pair beyond the
-        // noise, through the one a leading camera effect found: a weak strength can stay in
-        // the baseline's valley through either (translational drag beside a pinhole 325 mm
-        // away: 0.009 through the camera the segments see, 0.66 px; through the leading
-        // pinhole's 327 mm, 0.502 px against 0.504 px of noise).
+
+    /// Where a camera effect leads and every pair still misses, every other effect through
+    /// the camera the segments see, then through the one the leading camera effect found: a
+    /// weak strength can stay in the baseline's valley through either.
+    fn others_through_cameras(
+        &self,
+        through_seen: Option<&FoundCamera>,
+        ranked: &[(Candidate, Option<&WholeFit>)],
+        pairs: &mut Pairs,
+    ) -> Result<(), DiagnoseError> {
+        let seen = self.again.seen.is_some();
+        let Some(lead) = camera_lead_still_missing(ranked, &pairs.fits, self.noise_px, seen)
+        else {
+            return Ok(());
+        };
         let mut cameras: Vec<FoundCamera> =
-            again.seen.filter(|_| through_seen.is_none()).cloned().into_iter().collect();
+            self.again.seen.filter(|_| through_seen.is_none()).cloned().into_iter().collect();
         if lead.kind.is_camera() && !cameras.contains(&FoundCamera::of(lead)) {
             cameras.push(FoundCamera::of(lead));
         }
-        progress.pair_again("the other effects through the camera found", false);
-        let kinds = others_through_camera(ranked, again.seen.is_some());
+        self.progress.pair_again("the other effects through the camera found", false);
+        let kinds = others_through_camera(ranked, seen);
         for camera in cameras {
-            if reaches_noise(&pair_fits, noise_px) {
+            if reaches_noise(&pairs.fits, self.noise_px) {
                 break;
             }
-            for p in effects_through_camera(again, ms, &camera, &kinds, noise_px, cancel)? {
-                let first = p.also.first().map_or(p.kind, |x| x.0);
-                pair_fits.push((first, p.kind, Ok(p)));
+            pairs.extend(effects_through_camera(
+                self.again,
+                self.ms,
+                &camera,
+                &kinds,
+                self.noise_px,
+                self.cancel,
+            )?);
+        }
+        Ok(())
+    }
+
+    /// The best pair walked down its path again (not twice: the pairs stage may have walked
+    /// it already), then, where it is slip beside a camera, slip through that camera.
+    fn walk_best_pair_again(&self, pairs: &mut Pairs) -> Result<(), DiagnoseError> {
+        if !pairs.fits.is_empty() {
+            self.progress.pair_again("the best pair fitted again", false);
+        }
+        let score = |w: &WholeFit| self.score(w);
+        if best_pair(&mut pairs.fits, &score).is_none_or(|p| !pairs.walked.contains(&p.kinds())) {
+            walk_best_pair_again(
+                self.again,
+                self.ms,
+                self.levels,
+                &mut pairs.fits,
+                &score,
+                self.noise_px,
+                self.cancel,
+            )?;
+        }
+        slip_pair_through_its_camera(
+            self.again,
+            self.ms,
+            &mut pairs.fits,
+            &score,
+            self.noise_px,
+            self.progress,
+            self.cancel,
+        )
+    }
+
+    /// The best pair fitted.
+    fn best_of<'p>(&self, pairs: &'p Pairs) -> Option<&'p WholeFit> {
+        pairs
+            .fits
+            .iter()
+            .filter_map(|(_, _, r)| r.as_ref().ok())
+            .min_by(|a, b| self.score(a).total_cmp(&self.score(b)))
+    }
+
+    /// A model of three effects (slip through a camera of two the segments see) is named only
+    /// where each is needed: else the best of it with one left out stands for it.
+    fn trimmed(&self, pairs: &Pairs) -> Result<Option<WholeFit>, DiagnoseError> {
+        match self.best_of(pairs) {
+            Some(p) if p.also.len() > 1 => {
+                let fewer = drop_each(self.ms, p, self.cancel)?;
+                Ok(fewer
+                    .into_iter()
+                    .min_by(|a, b| self.score(a).total_cmp(&self.score(b)))
+                    .filter(|r| self.score(r) <= self.score(p) + self.evidence))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// The finding after the pairs: the best pair where it beats the model chosen and neither
+    /// of its effects alone does as well (each fitted alone from the pair's solution: a single
+    /// fit can end in a side valley the pair's extra number lets the least squares leave); that
+    /// effect alone where it does; else the pair as the better partial answer where it removes
+    /// at least half of what the best single one leaves beyond the noise.
+    /// Returns the finding and the model that stands for it (`None`: the baseline).
+    fn name(
+        &self,
+        mut finding: Finding,
+        chosen: &WholeFit,
+        best_pair: Option<&WholeFit>,
+        ranked: &mut [(Candidate, Option<&WholeFit>)],
+    ) -> Result<(Finding, Option<WholeFit>), DiagnoseError> {
+        let (noise_px, evidence) = (self.noise_px, self.evidence);
+        let none_score = self.score(self.baseline);
+        let pair_wins = best_pair.is_some_and(|p| {
+            self.score(p) < self.score(chosen) - evidence
+                && explains(chosen.rms_px(), p.rms_px(), noise_px)
+        });
+        let alone = match best_pair.filter(|_| pair_wins) {
+            Some(p) => drop_each(self.ms, p, self.cancel)?,
+            None => Vec::new(),
+        };
+        let best_alone = alone.iter().min_by(|a, b| self.score(a).total_cmp(&self.score(b)));
+        let alone_enough = best_alone
+            .zip(best_pair)
+            .is_some_and(|(a, p)| self.score(a) <= self.score(p) + evidence);
+        if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
+            let named = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
+            return Ok((Finding::Named(named), Some(p.clone())));
+        }
+        if let Some(a) = best_alone.filter(|a| {
+            alone_enough
+                && self.score(a) < self.score(chosen)
+                && self.score(a) < none_score - evidence
+                && explains(self.baseline.rms_px(), a.rms_px(), noise_px)
+        }) {
+            if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
+                (c.rms_px, c.score, c.delta_score, c.strength) =
+                    (a.rms_px(), self.score(a), self.score(a) - none_score, a.strength);
+            }
+            return Ok((Finding::Named(vec![a.kind]), Some(a.clone())));
+        }
+        if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
+            let share = explained_share(self.baseline.rms_px(), p.rms_px(), noise_px);
+            if partial
+                .as_ref()
+                .is_none_or(|q| explained_share(q.rms_px, p.rms_px(), noise_px) >= MIN_EXPLAINED)
+            {
+                *partial = Some(Partial {
+                    effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(),
+                    share,
+                    rms_px: p.rms_px(),
+                });
             }
         }
+        Ok((finding, (!std::ptr::eq(chosen, self.baseline)).then(|| chosen.clone())))
     }
-    if !pair_fits.is_empty() {
-        progress.pair_again("the best pair fitted again", false);
-    }
-    // Not twice: the pairs stage may have walked the best pair already.
-    if best_pair(&mut pair_fits, &pair_score).is_none_or(|p| !walked.contains(&p.kinds())) {
-        walk_best_pair_again(again, ms, levels, &mut pair_fits, &pair_score, noise_px, cancel)?;
-    }
-    slip_pair_through_its_camera(
-        again,
-        ms,
-        &mut pair_fits,
-        &pair_score,
-        noise_px,
-        progress,
-        cancel,
-    )?;
-    let best_pair = pair_fits
-        .iter()
-        .filter_map(|(_, _, r)| r.as_ref().ok())
-        .min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    // A model of three effects (slip through a camera of two the segments see) is named only
-    // where each is needed: else the best of it with one left out stands for it (a sliding
-    // ring filmed from 338 mm, where the slides lent the segments a lens: the three named).
-    let trimmed = match best_pair {
-        Some(p) if p.also.len() > 1 => {
-            let fewer = drop_each(ms, p, cancel)?;
-            fewer
-                .into_iter()
-                .min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)))
-                .filter(|r| pair_score(r) <= pair_score(p) + evidence)
-        }
-        _ => None,
-    };
-    let best_pair = trimmed.as_ref().or(best_pair);
-    let pair_wins = best_pair.is_some_and(|p| {
-        pair_score(p) < score(chosen) - evidence && explains(chosen.rms_px(), p.rms_px(), noise_px)
-    });
-    // Before a pair is named, each of its effects alone from the pair's solution: a single fit
-    // can end in a side valley (rolling friction left at 1.7 px) that the pair's extra number
-    // lets the least squares leave, and then the second effect is not needed.
-    let alone = match best_pair.filter(|_| pair_wins) {
-        Some(p) => drop_each(ms, p, cancel)?,
-        None => Vec::new(),
-    };
-    let best_alone = alone.iter().min_by(|a, b| pair_score(a).total_cmp(&pair_score(b)));
-    let alone_enough =
-        best_alone.zip(best_pair).is_some_and(|(a, p)| pair_score(a) <= pair_score(p) + evidence);
-    if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
-        finding = Finding::Named(p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect());
-        chosen = p;
-    } else if let Some(a) = best_alone.filter(|a| {
-        alone_enough
-            && pair_score(a) < score(chosen)
-            && pair_score(a) < none_score - evidence
-            && explains(baseline.rms_px(), a.rms_px(), noise_px)
-    }) {
-        finding = Finding::Named(vec![a.kind]);
-        chosen = a;
-        if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
-            (c.rms_px, c.score, c.delta_score, c.strength) =
-                (a.rms_px(), pair_score(a), pair_score(a) - none_score, a.strength);
-        }
-    } else if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
-        // A pair is the better partial answer when it removes at least half of what the best
-        // single one leaves beyond the noise: a second strength always helps a little.
-        let share = explained_share(baseline.rms_px(), p.rms_px(), noise_px);
-        if partial
-            .as_ref()
-            .is_none_or(|q| explained_share(q.rms_px, p.rms_px(), noise_px) >= MIN_EXPLAINED)
-        {
-            *partial = Some(Partial {
-                effects: p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect(),
-                share,
-                rms_px: p.rms_px(),
-            });
-        }
-    }
-    let pairs: Vec<PairCandidate> = {
-        let mut v: Vec<PairCandidate> = pair_fits
+
+    /// The pairs tried, as the diagnosis reports them, best first.
+    fn pair_candidates(&self, pairs: &Pairs) -> Vec<PairCandidate> {
+        let none_score = self.score(self.baseline);
+        let mut v: Vec<PairCandidate> = pairs
+            .fits
             .iter()
             .map(|(a, b, r)| match r {
                 // The fit's own order (a pair fitted again may hold its effects the other way).
@@ -209,7 +359,7 @@ pub(super) fn forward_selection(
                     first: w.also.first().map_or(*a, |x| x.0),
                     second: w.kind,
                     rms_px: w.rms_px(),
-                    delta_score: pair_score(w) - none_score,
+                    delta_score: self.score(w) - none_score,
                     strengths: [
                         w.also.first().map_or((f64::NAN, f64::NAN), |x| x.1),
                         w.strength.unwrap_or((f64::NAN, f64::NAN)),
@@ -230,10 +380,7 @@ pub(super) fn forward_selection(
             .collect();
         v.sort_by(|a, b| a.delta_score.total_cmp(&b.delta_score));
         v
-    };
-
-    let chosen = (!std::ptr::eq(chosen, baseline)).then(|| chosen.clone());
-    Ok((finding, chosen, pairs))
+    }
 }
 
 /// The effect of `kind` with the camera left to the camera fitted: `None` for a camera
