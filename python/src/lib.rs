@@ -5,7 +5,6 @@
 
 mod case;
 mod errors;
-mod json;
 mod recording;
 mod worker;
 
@@ -231,7 +230,7 @@ fn fit(
         core_fit(recording, &opts, &on_progress, cancel)
     })?;
     match result {
-        Ok(r) => to_json(&json::FitReport::new(&r)),
+        Ok(r) => to_json(&ringlab_core::analysis::json::FitReport::new(&r)),
         // Cancelled only by our flag, which only Ctrl-C (raised above) sets.
         Err(ringlab_core::analysis::fit::FitError::Cancelled) => {
             Err(PyKeyboardInterrupt::new_err("the fit was cancelled"))
@@ -276,7 +275,7 @@ fn diagnose(
         core_diagnose(recording, &opts, &on_progress, cancel)
     })?;
     match result {
-        Ok(d) => to_json(&json::DiagnoseJson::new(&d)),
+        Ok(d) => to_json(&ringlab_core::analysis::json::DiagnoseJson::new(&d)),
         Err(DiagnoseError::Cancelled) => {
             Err(PyKeyboardInterrupt::new_err("the diagnosis was cancelled"))
         }

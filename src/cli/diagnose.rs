@@ -1,13 +1,13 @@
 //! `ringlab diagnose`: which physics the paper's model left out of a recording, if any. Its
-//! flags are `diagnose_args.rs`, its JSON `diagnose_json.rs`; more than one file (or a table)
+//! flags are `diagnose_args.rs`, its JSON `analysis::json` (the core's); more than one file (or a table)
 //! goes to `diagnose_batch.rs`.
 
 use super::diagnose_args::{DiagnoseArgs, options};
-use super::diagnose_json::DiagnoseJson;
 use super::diagnose_report;
 use super::progress::{LateBar, PERCENT_TEMPLATE, with_threads};
 use anyhow::{Context, Result};
 use ringlab::analysis::diagnose::{DiagnoseProgress, Diagnosis, Finding, diagnose};
+use ringlab::analysis::json::DiagnoseJson;
 use std::sync::atomic::AtomicBool;
 
 pub fn run(args: &DiagnoseArgs) -> Result<()> {

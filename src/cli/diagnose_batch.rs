@@ -2,11 +2,11 @@
 //! each, and `--merge` to join the shards' tables.
 
 use super::diagnose_args::DiagnoseArgs;
-use super::diagnose_json::DiagnoseJson;
 use super::progress::{COUNT_TEMPLATE, LateBar, with_threads};
 use super::shard::{Shard, read_tables, write_table};
 use anyhow::{Context, Result, bail};
 use ringlab::analysis::diagnose::{DiagnoseOptions, Diagnosis, diagnose};
+use ringlab::analysis::json::DiagnoseJson;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;

@@ -2,9 +2,8 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use ringlab::analysis::fit::{FitOptions, FitProgress, FitResult, FitStage, fit};
+use ringlab::analysis::fit::{FitOptions, FitProgress, FitStage, fit};
 use ringlab::physics::EffectKind;
-use serde::Serialize;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
@@ -42,84 +41,6 @@ pub struct FitArgs {
     /// Threads (default: all cores)
     #[arg(long)]
     pub threads: Option<usize>,
-}
-
-/// The JSON object of `ringlab fit --json`.
-#[derive(Serialize, Debug)]
-struct FitReport {
-    c: [f64; 3],
-    c_sigma: [Option<f64>; 3],
-    theta0: f64,
-    phidot0: f64,
-    psidot0: f64,
-    thetadot0: f64,
-    phi0: f64,
-    rms_px: f64,
-    frames: usize,
-    compute_seconds: f64,
-    frames_fitted: usize,
-    noise_px: Option<f64>,
-    start_frame: f64,
-    start_time_s: f64,
-    time_unit_s: f64,
-    length_unit_mm: f64,
-    segments: usize,
-    segment_frames: usize,
-    iterations: usize,
-    residuals: usize,
-    parameters: usize,
-    coarse_c: Option<[f64; 3]>,
-    effect: Option<EffectReport>,
-}
-
-#[derive(Serialize, Debug)]
-struct EffectReport {
-    name: &'static str,
-    strength: f64,
-    sigma: Option<f64>,
-}
-
-fn finite(x: f64) -> Option<f64> {
-    x.is_finite().then_some(x)
-}
-
-fn wrap_angle(x: f64) -> f64 {
-    let w = x.rem_euclid(std::f64::consts::TAU);
-    if w > std::f64::consts::PI { w - std::f64::consts::TAU } else { w }
-}
-
-impl FitReport {
-    fn new(r: &FitResult) -> FitReport {
-        FitReport {
-            c: r.c,
-            c_sigma: r.c_sigma.map(finite),
-            theta0: r.start.theta,
-            phidot0: r.start.phi_dot,
-            psidot0: r.start.psi_dot,
-            thetadot0: r.start.theta_dot,
-            phi0: wrap_angle(r.start.phi),
-            rms_px: r.rms_px,
-            frames: r.frames,
-            compute_seconds: r.compute_seconds,
-            frames_fitted: r.frames_fitted,
-            noise_px: r.noise_px,
-            start_frame: r.start_frame,
-            start_time_s: r.start_t * r.units.time_s,
-            time_unit_s: r.units.time_s,
-            length_unit_mm: r.units.length_mm,
-            segments: r.segments.len(),
-            segment_frames: r.segments.first().map_or(0, |s| s.len()),
-            iterations: r.iterations,
-            residuals: r.residual_count,
-            parameters: r.parameter_count,
-            coarse_c: r.coarse_c,
-            effect: r.effect.map(|(k, s, sd)| EffectReport {
-                name: k.name(),
-                strength: s,
-                sigma: finite(sd),
-            }),
-        }
-    }
 }
 
 fn parse_c(s: &str) -> Result<[f64; 3]> {
@@ -178,7 +99,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
         super::progress::with_threads(args.threads, || fit(&rec, &opts, &progress, &cancel))?;
     bar.finish();
     let r = result.with_context(|| format!("fitting {}", args.file.display()))?;
-    let report = FitReport::new(&r);
+    let report = ringlab::analysis::json::FitReport::new(&r);
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());

@@ -9,7 +9,6 @@ pub mod diagnose;
 pub mod diagnose_args;
 pub mod diagnose_batch;
 pub mod diagnose_bench;
-pub mod diagnose_json;
 pub mod diagnose_report;
 pub mod effect_args;
 pub mod film_args;

@@ -3,4 +3,5 @@
 
 pub mod diagnose;
 pub mod fit;
+pub mod json;
 pub mod sweep;

@@ -1,14 +1,11 @@
-//! The JSON objects of `ringlab diagnose --json` and `ringlab fit --json`, field for field:
-//! the Python results are these objects (`to_dict()`), so that a notebook and a script that
-//! parses the CLI's output read the same names and numbers. A copy of the CLI's `DiagnoseJson`
-//! (`src/cli/diagnose_json.rs`) and `FitReport` (`src/cli/fit.rs`): the app crate, which this
-//! crate cannot depend on without the window; `python/tests/test_fit_diagnose.py` compares the
-//! two outputs whenever the CLI is built.
+//! The JSON objects of `ringlab diagnose --json` and `ringlab fit --json`, field for field: the
+//! CLI prints them and the Python package's results are them (`to_dict()`), so a script that
+//! parses the CLI's output and a notebook read the same names and numbers from one definition.
 
-use ringlab_core::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, Finding};
-use ringlab_core::analysis::fit::FitResult;
-use ringlab_core::physics::SlipStart;
-use ringlab_core::recording::glitches::GlitchKind;
+use crate::analysis::diagnose::{CONSISTENT_RATIO, Diagnosis, Finding};
+use crate::analysis::fit::FitResult;
+use crate::physics::SlipStart;
+use crate::recording::glitches::GlitchKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -128,13 +125,13 @@ fn finite(x: f64) -> Option<f64> {
 
 impl DiagnoseJson {
     pub fn new(d: &Diagnosis) -> DiagnoseJson {
-        let window = |w: &ringlab_core::analysis::diagnose::MismatchWindow| WindowJson {
+        let window = |w: &crate::analysis::diagnose::MismatchWindow| WindowJson {
             start_s: w.start_s,
             end_s: w.end_s,
             rms_px: w.rms_px,
             share: w.share,
         };
-        let fit = |f: &ringlab_core::analysis::diagnose::ModelFit| {
+        let fit = |f: &crate::analysis::diagnose::ModelFit| {
             let mut params = BTreeMap::new();
             for i in 0..3 {
                 params.insert(format!("C{}", i + 1), finite(f.c[i]));
@@ -247,36 +244,36 @@ impl DiagnoseJson {
 /// The JSON object of `ringlab fit --json`.
 #[derive(Serialize, Debug)]
 pub struct FitReport {
-    c: [f64; 3],
-    c_sigma: [Option<f64>; 3],
-    theta0: f64,
-    phidot0: f64,
-    psidot0: f64,
-    thetadot0: f64,
-    phi0: f64,
-    rms_px: f64,
-    frames: usize,
-    compute_seconds: f64,
-    frames_fitted: usize,
-    noise_px: Option<f64>,
-    start_frame: f64,
-    start_time_s: f64,
-    time_unit_s: f64,
-    length_unit_mm: f64,
-    segments: usize,
-    segment_frames: usize,
-    iterations: usize,
-    residuals: usize,
-    parameters: usize,
-    coarse_c: Option<[f64; 3]>,
-    effect: Option<EffectReport>,
+    pub c: [f64; 3],
+    pub c_sigma: [Option<f64>; 3],
+    pub theta0: f64,
+    pub phidot0: f64,
+    pub psidot0: f64,
+    pub thetadot0: f64,
+    pub phi0: f64,
+    pub rms_px: f64,
+    pub frames: usize,
+    pub compute_seconds: f64,
+    pub frames_fitted: usize,
+    pub noise_px: Option<f64>,
+    pub start_frame: f64,
+    pub start_time_s: f64,
+    pub time_unit_s: f64,
+    pub length_unit_mm: f64,
+    pub segments: usize,
+    pub segment_frames: usize,
+    pub iterations: usize,
+    pub residuals: usize,
+    pub parameters: usize,
+    pub coarse_c: Option<[f64; 3]>,
+    pub effect: Option<EffectReport>,
 }
 
 #[derive(Serialize, Debug)]
-struct EffectReport {
-    name: &'static str,
-    strength: f64,
-    sigma: Option<f64>,
+pub struct EffectReport {
+    pub name: &'static str,
+    pub strength: f64,
+    pub sigma: Option<f64>,
 }
 
 fn wrap_angle(x: f64) -> f64 {
