@@ -416,7 +416,11 @@ fn an_effect_withheld_and_imitated_in_part_is_unexplained() {
 fn slip_is_not_fitted_through_a_leading_camera_that_explains_little() {
     let family = Family::Withheld(EffectKind::TranslationalDrag);
     let rec = family_recording(family, 4).expect("a concealed recording");
-    let opts = DiagnoseOptions { candidates: family.candidates(), ..DiagnoseOptions::default() };
+    // Without the table's slope, which leads here (a force on the centre of mass as the drag
+    // withheld is) and would leave no camera to lead.
+    let candidates =
+        family.candidates().into_iter().filter(|&k| k != EffectKind::TableSlope).collect();
+    let opts = DiagnoseOptions { candidates, ..DiagnoseOptions::default() };
     let (d, messages) = diagnose_with_options_and_messages(&rec, &opts);
     let lead = d.candidates.iter().find(|c| c.effect != EffectKind::None).expect("ranked");
     let slip = d.candidates.iter().find(|c| c.effect == EffectKind::Slip).expect("ranked");
