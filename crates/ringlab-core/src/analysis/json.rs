@@ -145,17 +145,17 @@ impl DiagnoseJson {
                 params.insert(f.effect.name().to_string(), finite(v));
                 params.insert(format!("{}_sigma", f.effect.name()), finite(s));
             }
-            if let Some((v, s)) = f.tilt_deg {
-                params.insert("camera_tilt_deg".into(), finite(v));
-                params.insert("camera_tilt_deg_sigma".into(), finite(s));
+            // Each effect's extra numbers under the keys its file gives them (a pinhole's
+            // camera_tilt_deg, reynolds_rim_share, table_slope_direction_deg, ...).
+            for x in &f.extras {
+                if let Some(key) = x.json() {
+                    params.insert(key.into(), finite(x.value.0));
+                    params.insert(format!("{key}_sigma"), finite(x.value.1));
+                }
             }
             if let Some([along, across]) = f.slip_start_mm_s() {
                 params.insert("slip_start_along_mm_s".into(), finite(along));
                 params.insert("slip_start_across_mm_s".into(), finite(across));
-            }
-            if let Some((v, s)) = f.rim_share {
-                params.insert("reynolds_rim_share".into(), finite(v));
-                params.insert("reynolds_rim_share_sigma".into(), finite(s));
             }
             FitJson {
                 rms_px: f.rms_px,
