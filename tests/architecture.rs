@@ -608,14 +608,7 @@ fn no_module_imports_one_its_layer_row_does_not_name() {
 
 /// Pairs of files that still import each other, each to be broken (a trait or a leaf module):
 /// the check fails on any other pair, and on a pair here that no longer does.
-const KNOWN_CYCLES: [(&str, &str); 1] = [
-    // result.rs's extras_of (candidates.rs) and candidates.rs's STAGE_CEILING (result.rs), since
-    // the effects' descriptors (386aba2).
-    (
-        "crates/ringlab-core/src/analysis/diagnose/candidates.rs",
-        "crates/ringlab-core/src/analysis/diagnose/result.rs",
-    ),
-];
+const KNOWN_CYCLES: [(&str, &str); 0] = [];
 
 /// Whether `a` is the `mod.rs` (or crate root) of the module `b` is a file of: a folder's
 /// `mod.rs` holds what its files share and hands work to them, so the two may use each other.

@@ -13,7 +13,7 @@
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
 //! baseline is refitted from the baseline's solution.
 
-use super::result::extras_of;
+use super::result::{STAGE_CEILING, extras_of};
 use super::whole::{
     LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect,
     with_effects,
@@ -91,14 +91,6 @@ pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
 pub fn mu_limit(sh: &Shooting) -> f64 {
     painleve_mu_limit(&sh.spec.base)
 }
-
-/// A candidate's path ends where a stage fits this many times worse than the baseline's stage
-/// with as many segments ([`fit_path`]'s ceiling). A candidate nests the baseline, so on its
-/// right path it never fits worse: on twenty concealed recordings the named effects' stages
-/// stayed within 1.1 times the baseline's, while those of the paths that ended worse than the
-/// baseline rose to 3 to 1,600 times it, and went on for seconds (to be refitted from the
-/// baseline's solution in the end).
-pub const STAGE_CEILING: f64 = 4.0;
 
 /// Fits `kind` from the baseline's first stage (its multiple-shooting segments, `levels[0]`)
 /// on down to one segment (see the module doc); from the baseline's own whole-run solution

@@ -112,8 +112,13 @@ pub fn diagnose(
     progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
     let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
-    let decided =
-        Decided { baseline: &baseline, chosen, departure: &departure, noise: &noise, evidence: opts.evidence };
+    let decided = Decided {
+        baseline: &baseline,
+        chosen,
+        departure: &departure,
+        noise: &noise,
+        evidence: opts.evidence,
+    };
     let mut d = describe(&tracks, &base, &ms, decided, laps.take())?;
     d.explanation = explain(&d);
     laps.lap("residuals, signature, words");

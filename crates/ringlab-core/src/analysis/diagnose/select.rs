@@ -208,8 +208,7 @@ impl Selection<'_> {
         pairs: &mut Pairs,
     ) -> Result<(), DiagnoseError> {
         let seen = self.again.seen.is_some();
-        let Some(lead) = camera_lead_still_missing(ranked, &pairs.fits, self.noise_px, seen)
-        else {
+        let Some(lead) = camera_lead_still_missing(ranked, &pairs.fits, self.noise_px, seen) else {
             return Ok(());
         };
         let mut cameras: Vec<FoundCamera> =
