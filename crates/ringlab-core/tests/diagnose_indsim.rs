@@ -40,9 +40,14 @@ fn glitches_with_adjacent_swaps_are_left_out() {
     assert!(d.before.rms_px < 1.1 * d.noise_px, "{} against {}", d.before.rms_px, d.noise_px);
 }
 
+/// The third simulator's tilted table (0.005 rad): `unexplained` until the slope was an
+/// effect, now named with its angle.
 #[test]
-fn a_table_that_is_not_level_is_unexplained() {
-    said::check("indsim", "table-slope");
+fn a_table_that_is_not_level_is_named_with_its_angle() {
+    let d = said::check("indsim", "table-slope");
+    let (angle, _) = d.after.strength.expect("the slope's strength");
+    assert!((angle - 0.005f64.to_degrees()).abs() < 0.05, "{angle} degrees");
+    assert!(d.after.rms_px < 1.05 * d.noise_px, "{} against {}", d.after.rms_px, d.noise_px);
 }
 
 #[test]
