@@ -68,31 +68,7 @@ fn simulate<'py>(
     // The row of `report::write_samples_csv`, column for column.
     let mut out: Vec<u8> = Vec::with_capacity(samples.len() * CSV_COLUMNS.len() * 8);
     for s in &samples {
-        let y = &s.y;
-        let row = [
-            s.t,
-            y[0],
-            y[1],
-            y[2],
-            y[3],
-            y[4],
-            y[5],
-            y[6],
-            y[7],
-            s.z_c,
-            s.x_a,
-            s.y_a,
-            s.x_p,
-            s.y_p,
-            s.v_p,
-            s.f_1,
-            s.f_f,
-            s.f_n,
-            s.energy,
-            s.reynolds,
-            if s.sliding { 1.0 } else { 0.0 },
-            s.slip_speed,
-        ];
+        let row = ringlab_core::report::sample_row(s);
         debug_assert_eq!(row.len(), CSV_COLUMNS.len());
         for v in row {
             out.extend_from_slice(&v.to_ne_bytes());

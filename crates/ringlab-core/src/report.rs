@@ -32,37 +32,41 @@ pub const CSV_COLUMNS: &[&str] = &[
     "slip_speed",
 ];
 
+/// A sample's values in the order of [`CSV_COLUMNS`] (sliding as 0 or 1).
+pub fn sample_row(s: &Sample) -> [f64; 22] {
+    let y = &s.y;
+    [
+        s.t,
+        y[0],
+        y[1],
+        y[2],
+        y[3],
+        y[4],
+        y[5],
+        y[6],
+        y[7],
+        s.z_c,
+        s.x_a,
+        s.y_a,
+        s.x_p,
+        s.y_p,
+        s.v_p,
+        s.f_1,
+        s.f_f,
+        s.f_n,
+        s.energy,
+        s.reynolds,
+        if s.sliding { 1.0 } else { 0.0 },
+        s.slip_speed,
+    ]
+}
+
 /// Writes samples as CSV with a header line.
 pub fn write_samples_csv(out: &mut impl Write, samples: &[Sample]) -> io::Result<()> {
     writeln!(out, "{}", CSV_COLUMNS.join(","))?;
     for s in samples {
-        let y = &s.y;
-        writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            s.t,
-            y[0],
-            y[1],
-            y[2],
-            y[3],
-            y[4],
-            y[5],
-            y[6],
-            y[7],
-            s.z_c,
-            s.x_a,
-            s.y_a,
-            s.x_p,
-            s.y_p,
-            s.v_p,
-            s.f_1,
-            s.f_f,
-            s.f_n,
-            s.energy,
-            s.reynolds,
-            s.sliding as u8,
-            s.slip_speed
-        )?;
+        let row = sample_row(s).map(|v| v.to_string());
+        writeln!(out, "{}", row.join(","))?;
     }
     Ok(())
 }
