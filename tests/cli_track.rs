@@ -256,3 +256,33 @@ fn diagnose_takes_films_one_by_one_and_as_a_table() {
         v["after"]["rms_px"].as_f64().expect("rms") < 1.3 * v["noise_px"].as_f64().expect("noise")
     );
 }
+
+/// A near camera's film (the shared `dark-perspective`'s first 600 frames: a pinhole 400 mm
+/// above the table, tilted 5 degrees): the tracker's table scale, fitted with the camera's
+/// distance, is off by about a percent; the diagnosis fits it with the pinhole, names the
+/// camera, and the fit reaches the centres' error the tracker says.
+#[test]
+fn diagnose_names_a_near_camera_from_its_film_and_corrects_the_scale() {
+    let film = s(&test_data("video/dark-perspective-start.mp4"));
+    let r = common::ringlab(&["diagnose", &film, "--preset", "steel-ring", "--json"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&r.stdout).expect("JSON");
+    assert_eq!(v["left_out"], "camera_perspective", "{v}");
+    let after = &v["after"];
+    let (rms, noise) = (after["rms_px"].as_f64(), v["noise_px"].as_f64());
+    assert!(rms.zip(noise).is_some_and(|(r, n)| r < 1.1 * n), "{rms:?} px against {noise:?}");
+    let distance = 1000.0 / after["params"]["camera_perspective"].as_f64().expect("strength");
+    assert!((distance / 400.0 - 1.0).abs() < 0.03, "{distance} mm");
+    let tilt = after["params"]["camera_tilt_deg"].as_f64().expect("tilt");
+    assert!((tilt - 5.0).abs() < 0.3, "{tilt} deg");
+    // The scale written (the tracker's) corrected by the fit, against the film's truth.
+    let out = s(&dir("near").join("near.csv"));
+    let written =
+        common::ringlab(&["track", &film, "--preset", "steel-ring", "--json", "--out", &out]);
+    assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&written.stdout).expect("JSON");
+    let tracked = report["px_per_mm"].as_f64().expect("scale");
+    let correction = after["params"]["table_scale_correction_pct"].as_f64().expect("fitted");
+    let table = tracked * (1.0 + correction / 100.0);
+    assert!((table / 3.364764 - 1.0).abs() < 0.003, "{tracked} corrected to {table} px/mm");
+}

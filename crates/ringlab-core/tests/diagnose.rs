@@ -509,3 +509,33 @@ fn slip_is_fitted_through_the_camera_the_segments_see_before_the_pairs() {
     let walked: Vec<&String> = messages.iter().filter(|m| m.contains(" px)")).collect();
     assert!(walked.is_empty(), "pairs walked from the baseline's path: {walked:?}");
 }
+
+/// A tracker's scale through a near camera (the film tracker's `px_per_mm_from`), here 1%
+/// too large: a pinhole whose marks ride above the table tells the table's scale only through
+/// the camera's distance, so the pinhole's fit corrects the scale with it and names the camera
+/// at the noise. A scale the header gives without saying so stays as it is.
+#[test]
+fn a_near_cameras_tracked_scale_is_corrected_with_the_camera() {
+    let (mut rec, _) =
+        concealed_recording(EffectKind::CameraPerspective, SEED).expect("a concealed recording");
+    rec.header.px_per_mm *= 1.01;
+    rec.header.extra.push((
+        "px_per_mm_from".into(),
+        format!("{}, +-0.03, about 440 mm away", ringlab_core::film::NEAR_RING_SCALE),
+    ));
+    let d = diagnose(&rec, &DiagnoseOptions::default(), &|_| {}, &AtomicBool::new(false))
+        .expect("a diagnosis");
+    assert_named(&d, &[EffectKind::CameraPerspective]);
+    let correction = d
+        .after
+        .extras
+        .iter()
+        .find(|x| x.kind == EffectKind::CameraPerspective && x.index == 1)
+        .expect("the scale's correction is fitted")
+        .value
+        .0;
+    let truth = 100.0 * (1.0 / 1.01 - 1.0);
+    assert!((correction - truth).abs() < 0.1, "{correction}% against {truth}%");
+    assert!(d.after.rms_px < 1.1 * d.noise_px, "left {} px", d.after.rms_px);
+    assert!(d.explanation.contains("corrected by"), "{}", d.explanation);
+}

@@ -11,6 +11,7 @@ pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
+pub mod pose_error;
 pub mod scale;
 pub mod source;
 
@@ -21,7 +22,7 @@ pub use source::{FilmInfo, FilmSource, VIDEO_EXTENSIONS, is_film};
 use crate::physics::Shape;
 use crate::recording::import::BodyMm;
 use crate::recording::marks::mark_radius;
-use crate::recording::{FrameMarks, Header, Recording, is_usable};
+use crate::recording::{Camera, FrameMarks, Header, Recording, is_usable};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -123,8 +124,8 @@ pub struct TrackOptions {
 pub use crate::recording::tracks::TRACKER_SIGMA_KEY;
 
 /// The start of the header's `px_per_mm_from` where the scale was fitted from the ring
-/// through a near camera.
-pub const NEAR_RING_SCALE: &str = "ring through a near camera";
+/// through a near camera, defined where the camera reads it.
+pub use crate::recording::camera::NEAR_RING_SCALE;
 
 impl TrackOptions {
     /// The whole film of `body`, the marks' style told from it, the frame rate from the
@@ -237,6 +238,10 @@ fn semi_major_range(opts: &TrackOptions, info: &FilmInfo) -> (f64, f64) {
         None => (3.0, info.width.min(info.height) as f64 / 2.0),
     }
 }
+
+/// The table scale's largest relative uncertainty at which a near camera's fitted pinhole
+/// checks the centres' error (`pose_error`).
+const MAX_POSE_SCALE_SIGMA: f64 = 0.02;
 
 fn mark_radius_mm(body: &BodyMm) -> f64 {
     let w = body.thickness_mm.unwrap_or(body.outer_radius_mm);
@@ -446,7 +451,22 @@ fn assemble(
         })
     });
     let near = ring_scale.as_ref().is_some_and(RingScale::camera_is_near);
-    let tracker_sigma_px = if near { None } else { error::closure_sigma(&frames) };
+    // Through a near camera, the marks' circle posed in each frame through the pinhole fitted
+    // with the scale checks the centres instead of the parallelogram, where that pinhole is
+    // known well enough: a wrong distance leaves a residual of its own in every pose.
+    let near_camera = ring_scale
+        .as_ref()
+        .and_then(|rs| rs.table)
+        .filter(|t| t.sigma < MAX_POSE_SCALE_SIGMA * t.px_per_mm)
+        .map(|t| Camera {
+            distance_mm: Some(t.camera_distance_mm),
+            ..Camera::centred(px_per_mm, info.width as f64, info.height as f64)
+        });
+    let tracker_sigma_px = match (near, near_camera) {
+        (false, _) => error::closure_sigma(&frames),
+        (true, Some(cam)) => pose_error::pinhole_closure_sigma(&frames, &cam, mark_radius_mm(body)),
+        (true, None) => None,
+    };
     // The scale's own spread over the frames misses a bias the four centres share (each
     // pulled out or in from A by its neighbourhood alike): one centre's error over the
     // marks' radius bounds it.
@@ -465,7 +485,7 @@ fn assemble(
         }
     } else if near {
         notes.push(
-            "a near camera: the marks' parallelogram cannot check the centres' error, so the error said is the pixels' noise alone".into(),
+            "a near camera whose distance is not known well enough (the table's scale within 2%) for the marks' figure to check the centres' error: the error said is the pixels' noise alone".into(),
         );
     }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

@@ -46,7 +46,16 @@ pub struct Camera {
     /// Angle (rad) of the optical axis from the table's normal, turned about the table's `X`
     /// axis; positive: the camera sits towards `-Y` (the image's bottom edge).
     pub tilt_rad: f64,
+    /// Whether `px_per_mm` is a tracker's estimate through a near camera (the header's
+    /// `px_per_mm_from` says [`NEAR_RING_SCALE`]): the marks ride above the table, so their
+    /// own scale says the table's only through the camera's distance, which the perspective's
+    /// fit then corrects with it.
+    pub scale_free: bool,
 }
+
+/// The start of the header's `px_per_mm_from` where a tracker fitted the table's scale from the
+/// ring through a near camera.
+pub const NEAR_RING_SCALE: &str = "ring through a near camera";
 
 impl Camera {
     /// The numbers an effect can set (`physics::effects`).
@@ -56,6 +65,7 @@ impl Camera {
             k1: self.k1,
             distance_mm: self.distance_mm,
             tilt_rad: self.tilt_rad,
+            scale_free: self.scale_free,
         }
     }
 
@@ -79,6 +89,7 @@ impl Camera {
             k1: 0.0,
             distance_mm: None,
             tilt_rad: 0.0,
+            scale_free: false,
         }
     }
 
@@ -87,9 +98,14 @@ impl Camera {
     /// image centre; the header's distance and tilt where it gives them (orthographic and
     /// untilted otherwise); no distortion (the format does not describe it).
     pub fn for_recording(header: &Header, frames: &[FrameMarks]) -> Camera {
+        let scale_free = header
+            .extra
+            .iter()
+            .any(|(k, v)| k == "px_per_mm_from" && v.starts_with(NEAR_RING_SCALE));
         let view = |cam: Camera| Camera {
             distance_mm: header.camera_distance_mm,
             tilt_rad: header.camera_tilt_deg.map_or(0.0, f64::to_radians),
+            scale_free,
             ..cam
         };
         if let (Some(w), Some(h)) = (header.image_width_px, header.image_height_px) {

@@ -82,7 +82,7 @@ pub(super) fn seen_camera(
         Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
         Err(LmError::BadStart) => return Ok(None),
     };
-    let params = sol.global.len() + 8 * sol.local.len();
+    let params = sh.spec.fitted_count() + 8 * sol.local.len();
     let jac = sh.spec.value_per_internal(&sol.global);
     let values = sh.spec.to_values(&sol.global);
     let worth = bic_per_parameter(sol.residual_count) + evidence;

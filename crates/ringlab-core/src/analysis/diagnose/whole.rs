@@ -217,7 +217,7 @@ pub fn fit_path(
         // them already. Saves most of the work for a model that is right.
         if !last && let Some((cost, count, params)) = previous {
             let start = segment_cost(&sh, &global, &as_states(&locals));
-            let freed = (params - global.len() - 8 * segments) as f64;
+            let freed = (params - sh.spec.fitted_count() - 8 * segments) as f64;
             let variance = cost / count.saturating_sub(params).max(1) as f64;
             if start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance {
                 on_iteration(segments, start);
@@ -227,7 +227,7 @@ pub fn fit_path(
                     states: as_states(&locals),
                     cost: start,
                 });
-                previous = Some((start, count, global.len() + 8 * segments));
+                previous = Some((start, count, sh.spec.fitted_count() + 8 * segments));
                 sh.segments =
                     sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
                 locals = locals.iter().step_by(2).cloned().collect();
@@ -269,14 +269,14 @@ pub fn fit_path(
             let cost = segment_cost(&sh, &sol.global, &as_states(std::slice::from_ref(&start)));
             break lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol };
         }
-        previous = Some((sol.cost, sol.residual_count, sol.global.len() + 8 * segments));
+        previous = Some((sol.cost, sol.residual_count, sh.spec.fitted_count() + 8 * segments));
         sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
         locals = sol.local.iter().step_by(2).cloned().collect();
         global = sol.global;
     };
     let values = sh.spec.to_values(&sol.global);
     let jac = sh.spec.value_per_internal(&sol.global);
-    let params = sol.global.len() + 8;
+    let params = sh.spec.fitted_count() + 8;
     let sigma = |i: usize| sol.global_sigma(i, params, &jac);
     let (model, camera) = sh.spec.build(&sol.global).ok_or(LmError::BadStart)?;
     let at = |want: Free| sh.spec.free.iter().position(|f| *f == want);
@@ -295,7 +295,9 @@ pub fn fit_path(
             .free
             .iter()
             .filter_map(|f| match *f {
-                Free::Extra(k, i) => Some(ExtraFit { kind: k, index: i, value: value(*f, 0.0) }),
+                Free::Extra(k, i) if !sh.spec.is_held(*f) => {
+                    Some(ExtraFit { kind: k, index: i, value: value(*f, 0.0) })
+                }
                 _ => None,
             })
             .collect(),

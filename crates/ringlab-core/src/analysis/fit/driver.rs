@@ -285,7 +285,8 @@ impl FitRun<'_> {
             // shorter.
             let freed = 8.0 * (shooting.segments.len() - longer.segments.len()) as f64;
             let variance = sol.cost
-                / (sol.residual_count as f64 - (sol.global.len() + 8 * sol.local.len()) as f64)
+                / (sol.residual_count as f64
+                    - (shooting.spec.fitted_count() + 8 * sol.local.len()) as f64)
                     .max(1.0);
             if (trial.cost - sol.cost) / variance > freed + 4.0 * (2.0 * freed).sqrt() {
                 break;
@@ -309,7 +310,7 @@ impl Refined<'_> {
         let dt = shooting.dt;
         let count = shooting.segments.len();
         let values = shooting.spec.to_values(&sol.global);
-        let params = sol.global.len() + count * 8;
+        let params = shooting.spec.fitted_count() + count * 8;
         let jac = shooting.spec.value_per_internal(&sol.global);
         let sigma = |i: usize| sol.global_sigma(i, params, &jac);
         let segment_states: Vec<StateVec> =

@@ -205,6 +205,22 @@ impl ModelSpec {
         Some((model, camera))
     }
 
+    /// Whether `f` is held where it starts (`Extra::held_at_zero`): in the fit's vector, but
+    /// neither fitted, nor counted among the parameters, nor reported.
+    pub fn is_held(&self, f: Free) -> bool {
+        match f {
+            Free::Extra(k, i) => {
+                (k.descriptor().extras[i].held_at_zero)(&self.base.effects, &self.camera.numbers())
+            }
+            _ => false,
+        }
+    }
+
+    /// The number of parameters fitted: those free and not held.
+    pub fn fitted_count(&self) -> usize {
+        self.free.iter().filter(|f| !self.is_held(**f)).count()
+    }
+
     /// Whether the body's dimensions are free (the marks' circle then follows the body).
     pub fn body_free(&self) -> bool {
         self.free.iter().any(|f| matches!(f, Free::Body(_)))
@@ -240,10 +256,11 @@ impl ModelSpec {
     /// start held rolling) is a box of one point (its runs ignore it, and the least squares
     /// would move a number the residuals do not see by their rounding divided by the damping).
     pub fn project(&self, internal: &mut [f64]) {
+        let numbers = self.camera.numbers();
         for (f, x) in self.free.iter().zip(internal.iter_mut()) {
             if let Free::Extra(k, j) = *f {
                 let extra = &k.descriptor().extras[j];
-                if (extra.held_at_zero)(&self.base.effects) {
+                if (extra.held_at_zero)(&self.base.effects, &numbers) {
                     *x = 0.0;
                 } else if extra.projected {
                     *x = x.clamp(extra.bounds.0, extra.bounds.1);

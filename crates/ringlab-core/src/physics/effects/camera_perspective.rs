@@ -26,10 +26,32 @@ fn words(w: &Words) -> String {
     let tilt = w.extras.first().map_or(String::new(), |&(t, s)| {
         format!(", tilted {} degrees from the vertical", super::pm(t, s))
     });
+    let scale = match w.extras.get(1) {
+        Some(&(c, s)) if c != 0.0 => format!(
+            " The table's scale the tracker measured through the near camera is corrected by {}%.",
+            super::pm(c, s)
+        ),
+        _ => String::new(),
+    };
     format!(
-        "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.",
+        "The mismatch depends on where the ring is in the image and on how high its marks are: a camera at a finite distance magnifies what is nearer to it, so the top edge's marks look farther from the image centre the higher the ring stands, and a tilted camera foreshortens one direction of the table. {:.0}% of the baseline's squared residual points along the radius from the image centre. The fitted camera sits {distance} from the table{tilt}; give `camera_distance_mm` and `camera_tilt_deg` in the header when they are known.{scale}",
         100.0 * w.radial_share
     )
+}
+
+/// The largest correction of a tracker's table scale a fit may try (percent): a tracker's
+/// scale through a near camera is off by its distance's error, about a percent.
+pub const MAX_SCALE_CORRECTION_PCT: f64 = 5.0;
+
+fn write_scale(v: f64, _: &super::ApplyAt, _: &mut super::Effects, cam: &mut CameraNumbers) -> bool {
+    cam.px_per_mm *= 1.0 + v / 100.0;
+    true
+}
+
+/// Only where the scale is a tracker's estimate through a near camera (`scale_free`): a scale
+/// the lab measured stays as it is.
+fn scale_held(_: &super::Effects, cam: &CameraNumbers) -> bool {
+    !cam.scale_free
 }
 
 fn write_tilt(v: f64, _: &super::ApplyAt, _: &mut super::Effects, cam: &mut CameraNumbers) -> bool {
@@ -65,6 +87,21 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
         read: |_, cam| cam.tilt_rad.to_degrees(),
         write: write_tilt,
         held_at_zero: never_held,
+    },
+    Extra {
+        name: "table scale correction (%)",
+        json: Some("table_scale_correction_pct"),
+        start: 0.0,
+        scan: &[],
+        realistic: (0.0, 0.0),
+        bounds: (-MAX_SCALE_CORRECTION_PCT, MAX_SCALE_CORRECTION_PCT),
+        projected: true,
+        step: Step::Fixed(1e-4),
+        // Relative to the camera it starts from, so a fit started from a corrected camera
+        // starts at no correction.
+        read: |_, _| 0.0,
+        write: write_scale,
+        held_at_zero: scale_held,
     }],
     scan: usual_scan,
     search: |_, _| (0.0, 10.0),

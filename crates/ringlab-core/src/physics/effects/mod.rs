@@ -188,6 +188,9 @@ pub struct CameraNumbers {
     pub distance_mm: Option<f64>,
     /// The optical axis's angle from the table's normal (rad).
     pub tilt_rad: f64,
+    /// Whether `px_per_mm` is the tracker's estimate through a near camera, which a camera
+    /// effect may correct (read only: no effect sets it).
+    pub scale_free: bool,
 }
 
 /// What an effect's numbers are applied to: the body's outer radius, the Reynolds numbers at
@@ -239,8 +242,9 @@ pub struct Extra {
     pub read: fn(&Effects, &CameraNumbers) -> f64,
     /// Sets it, after the strength; false where the value is outside the effect's domain.
     pub write: fn(f64, &ApplyAt, &mut Effects, &mut CameraNumbers) -> bool,
-    /// Whether the model holds it at zero (a box of one point: its runs ignore it).
-    pub held_at_zero: fn(&Effects) -> bool,
+    /// Whether the model (or the camera) holds it at zero (a box of one point: its runs
+    /// ignore it).
+    pub held_at_zero: fn(&Effects, &CameraNumbers) -> bool,
 }
 
 /// What the explanation knows when it puts an effect in words.
@@ -444,7 +448,7 @@ pub(crate) fn from_zero(_: &Effects, _: &CameraNumbers) -> f64 {
 }
 
 /// Never held.
-pub(crate) fn never_held(_: &Effects) -> bool {
+pub(crate) fn never_held(_: &Effects, _: &CameraNumbers) -> bool {
     false
 }
 

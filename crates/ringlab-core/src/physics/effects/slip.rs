@@ -48,7 +48,7 @@ impl Terms for Effect {
     type Params = ();
 }
 
-fn held(e: &Effects) -> bool {
+fn held(e: &Effects, _: &super::CameraNumbers) -> bool {
     e.slip_start == SlipStart::HeldRolling
 }
 
