@@ -10,7 +10,7 @@ struct Globals {
     eye: vec4<f32>,
     // xyz: unit vector towards the light.
     light_dir: vec4<f32>,
-    // x: grid spacing, y: fade radius, w: scale (outer radius R).
+    // x: grid spacing (0: no grid), y: fade radius, w: scale (outer radius R).
     table: vec4<f32>,
     // xy: centre of the fade, z: shadow-map texel in world units, w: size of a pixel in world
     // units at unit distance from the eye.
@@ -150,8 +150,9 @@ fn fs_table(i: MeshOut) -> @location(0) vec4<f32> {
     let fw5 = fw * 0.2;
     let major = abs(fract(q * 0.2 - 0.5) - 0.5) / fw5;
     let major_line = (1.0 - clamp(min(major.x, major.y) * 0.6, 0.0, 1.0)) * (1.0 - smoothstep(0.2, 0.5, max(fw5.x, fw5.y)));
-    // Darkening by the lines, applied to the encoded colour (encode(c k) ~ encode(c) encode(k)).
-    let k = 1.0 - max(0.2 * minor_line, 0.38 * major_line);
+    // Darkening by the lines, applied to the encoded colour (encode(c k) ~ encode(c) encode(k));
+    // a spacing of 0 is no grid (a film's table).
+    let k = select(1.0, 1.0 - max(0.2 * minor_line, 0.38 * major_line), g.table.x > 0.0);
     let c = g.table_srgb.rgb * srgb_encode(vec3<f32>(k, 0.0, 0.0)).x;
     // Sunlit everywhere here; the shading pass darkens the shadow and the contacts.
     let f = smoothstep(0.55 * g.table.y, g.table.y, length(xy - g.fade_center.xy));
