@@ -121,9 +121,11 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
     let l = g.light_dir.xyz;
     let v = normalize(g.eye.xyz - i.world);
     let h = normalize(l + v);
-    // Vertex colour: the body's paint; alpha 1 is bare metal, 0 a painted mark.
+    // Vertex colour: the body's paint; alpha 1 is bare metal, 0 a painted mark, -1 matte
+    // paint without a highlight (a film's marks, which a highlight would wash out).
     let base = i.color.rgb * obj.color.rgb;
-    let metal = obj.material.x * i.color.a;
+    let metal = obj.material.x * max(i.color.a, 0.0);
+    let gloss = select(1.0, 0.0, i.color.a < -0.5);
     let lit = sunlight(i.world, n);
     let hemi = mix(GROUND, SKY, 0.5 + 0.5 * n.z);
     let diffuse = max(dot(n, l), 0.0) * lit;
@@ -134,7 +136,7 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
     let spec = nh / (obj.material.y - obj.material.y * nh + nh) * obj.material.z * lit;
     var c = base * (0.35 * hemi + 0.75 * diffuse * SUN) * (1.0 - metal);
     c = c + metal * base * (0.55 * env + 0.45 * diffuse * SUN);
-    c = c + spec * SUN;
+    c = c + gloss * spec * SUN;
     return vec4<f32>(srgb_encode(c), 1.0);
 }
 

@@ -46,7 +46,8 @@ impl MarkDiscs {
         for (k, rgb) in self.colours.iter().enumerate() {
             let a = k as f32 * FRAC_PI_2;
             let c = [self.circle * a.cos(), y, self.circle * a.sin()];
-            let color = [rgb[0], rgb[1], rgb[2], 0.0];
+            // Matte: a highlight would wash a dark mark out seen from above.
+            let color = [rgb[0], rgb[1], rgb[2], -1.0];
             let base = m.vertices.len() as u32;
             m.vertices.push(Vertex { pos: c, normal, color });
             for i in 0..DISC_SEGMENTS {

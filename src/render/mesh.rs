@@ -12,7 +12,8 @@ use std::f32::consts::TAU;
 pub struct Vertex {
     pub pos: [f32; 3],
     pub normal: [f32; 3],
-    /// Paint multiplied by the body's colour; alpha 1 for bare metal, 0 for paint.
+    /// Paint multiplied by the body's colour; alpha 1 for bare metal, 0 for paint, -1 for
+    /// matte paint (no highlight).
     pub color: [f32; 4],
 }
 
