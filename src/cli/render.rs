@@ -324,7 +324,7 @@ fn run_film(args: &RenderArgs) -> Result<()> {
             "--view film needs --video FILM.mp4 (or a folder for PNG frames) with --from and --to"
         );
     };
-    Ok(super::render_film::run(&FilmRequest {
+    super::render_film::run(&FilmRequest {
         case: &args.case,
         video,
         from: args.from.context("--view film needs --from")?,
@@ -332,7 +332,7 @@ fn run_film(args: &RenderArgs) -> Result<()> {
         fps: args.fps,
         size: size(args, FILM_SIZE)?,
         flags: &args.film,
-    })?)
+    })
 }
 
 /// Opens `path` in the app (and fits it), as the window's menu and Fit button do.

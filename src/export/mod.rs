@@ -1,8 +1,9 @@
 //! What the classroom takes away from a run: a video (GIF or MP4) of it, pictures, the case as a
 //! file, the samples as CSV; and what a lab takes away: a film of the ring as its camera would
-//! take it, with the marks' true positions (`film`, `film_frames`). Frames come from the same renderer and panels as the window
-//! (`ui::frames`, through the [`Frames`] trait: export knows nothing of the window); encoding is the `gif` crate through `image` ([`gif`]) or an `ffmpeg` found on
-//! PATH ([`mp4`]).
+//! take it, with the marks' true positions (`film`, `film_frames`). Frames come from the same
+//! renderer and panels as the window (`ui::frames`, through the [`Frames`] trait: export knows
+//! nothing of the window); encoding is the `gif` crate through `image` ([`gif`]) or an
+//! `ffmpeg` found on PATH ([`mp4`]).
 
 pub mod csv;
 pub mod film;
