@@ -10,7 +10,7 @@ struct Globals {
     eye: vec4<f32>,
     // xyz: unit vector towards the light.
     light_dir: vec4<f32>,
-    // x: grid spacing, y: fade radius, w: scale (outer radius R).
+    // x: grid spacing (0: no grid), y: fade radius, w: scale (outer radius R).
     table: vec4<f32>,
     // xy: centre of the fade, z: shadow-map texel in world units, w: size of a pixel in world
     // units at unit distance from the eye.
@@ -121,9 +121,11 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
     let l = g.light_dir.xyz;
     let v = normalize(g.eye.xyz - i.world);
     let h = normalize(l + v);
-    // Vertex colour: the body's paint; alpha 1 is bare metal, 0 a painted mark.
+    // Vertex colour: the body's paint; alpha 1 is bare metal, 0 a painted mark, -1 matte
+    // paint without a highlight (a film's marks, which a highlight would wash out).
     let base = i.color.rgb * obj.color.rgb;
-    let metal = obj.material.x * i.color.a;
+    let metal = obj.material.x * max(i.color.a, 0.0);
+    let gloss = select(1.0, 0.0, i.color.a < -0.5);
     let lit = sunlight(i.world, n);
     let hemi = mix(GROUND, SKY, 0.5 + 0.5 * n.z);
     let diffuse = max(dot(n, l), 0.0) * lit;
@@ -134,7 +136,7 @@ fn fs_body(i: MeshOut) -> @location(0) vec4<f32> {
     let spec = nh / (obj.material.y - obj.material.y * nh + nh) * obj.material.z * lit;
     var c = base * (0.35 * hemi + 0.75 * diffuse * SUN) * (1.0 - metal);
     c = c + metal * base * (0.55 * env + 0.45 * diffuse * SUN);
-    c = c + spec * SUN;
+    c = c + gloss * spec * SUN;
     return vec4<f32>(srgb_encode(c), 1.0);
 }
 
@@ -150,8 +152,9 @@ fn fs_table(i: MeshOut) -> @location(0) vec4<f32> {
     let fw5 = fw * 0.2;
     let major = abs(fract(q * 0.2 - 0.5) - 0.5) / fw5;
     let major_line = (1.0 - clamp(min(major.x, major.y) * 0.6, 0.0, 1.0)) * (1.0 - smoothstep(0.2, 0.5, max(fw5.x, fw5.y)));
-    // Darkening by the lines, applied to the encoded colour (encode(c k) ~ encode(c) encode(k)).
-    let k = 1.0 - max(0.2 * minor_line, 0.38 * major_line);
+    // Darkening by the lines, applied to the encoded colour (encode(c k) ~ encode(c) encode(k));
+    // a spacing of 0 is no grid (a film's table).
+    let k = select(1.0, 1.0 - max(0.2 * minor_line, 0.38 * major_line), g.table.x > 0.0);
     let c = g.table_srgb.rgb * srgb_encode(vec3<f32>(k, 0.0, 0.0)).x;
     // Sunlit everywhere here; the shading pass darkens the shadow and the contacts.
     let f = smoothstep(0.55 * g.table.y, g.table.y, length(xy - g.fade_center.xy));

@@ -18,6 +18,7 @@ pub mod import_args;
 pub mod progress;
 pub mod recover;
 pub mod render;
+pub mod render_film;
 pub mod shard;
 pub mod simulate;
 pub mod sweep;

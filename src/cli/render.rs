@@ -2,6 +2,7 @@
 //! app.
 
 use super::case_args::CaseArgs;
+use super::render_film::{FILM_SIZE, FilmFlags, FilmRequest, check_folder};
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use ringlab::config::{Case, CaseFile, load_preset};
@@ -26,14 +27,17 @@ pub enum View {
     Top,
     /// The whole app window
     App,
+    /// A lab's film: straight down at a known scale, the marks as discs (--video, --truth)
+    Film,
 }
 
 impl View {
-    fn into_view(self) -> ringlab::export::View {
+    fn name(self) -> &'static str {
         match self {
-            View::ThreeD => ringlab::export::View::ThreeD,
-            View::Top => ringlab::export::View::Top,
-            View::App => ringlab::export::View::App,
+            View::ThreeD => ringlab::export::View::ThreeD.name(),
+            View::Top => ringlab::export::View::Top.name(),
+            View::App => ringlab::export::View::App.name(),
+            View::Film => "film",
         }
     }
 }
@@ -50,10 +54,10 @@ pub struct RenderArgs {
         conflicts_with = "video"
     )]
     pub time: Option<f64>,
-    /// Width in pixels [default: 1280 for a picture, 640 for a video]
+    /// Width in pixels [default: 1280 for a picture, 640 for a video or a film]
     #[arg(long)]
     pub width: Option<u32>,
-    /// Height in pixels [default: 720 for a picture, 360 for a video]
+    /// Height in pixels [default: 720 for a picture, 360 for a video, 512 for a film]
     #[arg(long)]
     pub height: Option<u32>,
     /// What to draw
@@ -102,7 +106,7 @@ pub struct RenderArgs {
     /// Video: the last frame's time (at most), in the case's time unit
     #[arg(long, allow_negative_numbers = true, requires = "video")]
     pub to: Option<f64>,
-    /// Video: frames per second [default: 25; a GIF at most 50]
+    /// Video: frames per second [default: 25; a GIF at most 50; a film 300]
     #[arg(long, allow_negative_numbers = true, requires = "video")]
     pub fps: Option<f64>,
     /// Video: playback speed, a multiple of real time as the window's speed control: one second
@@ -110,6 +114,8 @@ pub struct RenderArgs {
     /// of 0.04595 s) that is X / 0.04595 time units per second of video; in mm and s, X seconds
     #[arg(long, allow_negative_numbers = true, requires = "video", value_name = "X")]
     pub speed: Option<f64>,
+    #[command(flatten)]
+    pub film: FilmFlags,
 }
 
 fn parse_camera(s: &str, r: f32) -> Result<OrbitCamera> {
@@ -141,6 +147,12 @@ fn size(args: &RenderArgs, default: [u32; 2]) -> Result<[u32; 2]> {
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
+    if args.view == View::Film {
+        return run_film(args);
+    }
+    if let Some(flag) = args.film.first_given() {
+        bail!("{flag} is for a film (--view film)");
+    }
     match (&args.video, args.time, &args.out) {
         (Some(video), _, _) => run_video(args, video),
         (None, Some(time), Some(out)) => run_picture(args, time, out),
@@ -205,6 +217,7 @@ fn frame_source(gpu: &Gpu, args: &RenderArgs, until: Option<f64>) -> Result<Fram
             }
             FrameSource::app(gpu, app)
         }
+        View::Film => bail!("--view film draws a film (--video) and no picture"),
     })
 }
 
@@ -238,7 +251,7 @@ fn run_picture(args: &RenderArgs, time: f64, out: &Path) -> Result<()> {
         out.display(),
         size[0],
         size[1],
-        args.view.into_view().name(),
+        args.view.name(),
         time,
         gpu.adapter.name
     );
@@ -283,7 +296,7 @@ fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
         spec.fps,
         spec.speed,
         report.frames as f64 / spec.fps,
-        args.view.into_view().name(),
+        args.view.name(),
         report.bytes as f64 / 1000.0,
         seconds,
         1000.0 * seconds / report.frames.max(1) as f64,
@@ -292,13 +305,34 @@ fn run_video(args: &RenderArgs, path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn check_folder(flag: &str, path: &Path) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
-        && !dir.is_dir()
-    {
-        bail!("{flag} {}: the folder {} does not exist", path.display(), dir.display());
+/// `--view film`: the flags of the other views are refused, then `render_film` runs.
+fn run_film(args: &RenderArgs) -> Result<()> {
+    for (given, flag) in [
+        (args.speed.is_some(), "--speed"),
+        (args.compare.is_some(), "--compare"),
+        (args.camera.is_some(), "--camera"),
+        (args.no_contact, "--no-contact"),
+        (args.why, "--why"),
+        (args.recording.is_some(), "--recording"),
+    ] {
+        if given {
+            bail!("{flag} is not for a film (--view film): its camera and speed are a lab's");
+        }
     }
-    Ok(())
+    let Some(video) = &args.video else {
+        bail!(
+            "--view film needs --video FILM.mp4 (or a folder for PNG frames) with --from and --to"
+        );
+    };
+    super::render_film::run(&FilmRequest {
+        case: &args.case,
+        video,
+        from: args.from.context("--view film needs --from")?,
+        to: args.to.context("--view film needs --to")?,
+        fps: args.fps,
+        size: size(args, FILM_SIZE)?,
+        flags: &args.film,
+    })
 }
 
 /// Opens `path` in the app (and fits it), as the window's menu and Fit button do.

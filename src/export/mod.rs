@@ -1,18 +1,25 @@
 //! What the classroom takes away from a run: a video (GIF or MP4) of it, pictures, the case as a
-//! file, the samples as CSV. Frames come from the same renderer and panels as the window
-//! (`ui::frames`, through the [`Frames`] trait: export knows nothing of the window); encoding is the `gif` crate through `image` ([`gif`]) or an `ffmpeg` found on
-//! PATH ([`mp4`]).
+//! file, the samples as CSV; and what a lab takes away: a film of the ring as its camera would
+//! take it, with the marks' true positions (`film`, `film_frames`). Frames come from the same
+//! renderer and panels as the window (`ui::frames`, through the [`Frames`] trait: export knows
+//! nothing of the window); encoding is the `gif` crate through `image` ([`gif`]) or an
+//! `ffmpeg` found on PATH ([`mp4`]).
 
 pub mod csv;
+pub mod film;
+pub mod film_frames;
 pub mod frames;
 pub mod gif;
 pub mod mp4;
 pub mod overlay;
 pub mod picture;
+pub mod png_folder;
 pub mod session;
 pub mod sink;
 pub mod video;
 
+pub use film::{FilmMarks, FilmPlan, FilmSpec, plan_film};
+pub use film_frames::{FilmReport, write_film};
 pub use frames::{Aim, Frames, View, render_views};
 pub use video::{VideoFormat, VideoSpec, write_video};
 

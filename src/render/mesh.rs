@@ -12,7 +12,8 @@ use std::f32::consts::TAU;
 pub struct Vertex {
     pub pos: [f32; 3],
     pub normal: [f32; 3],
-    /// Paint multiplied by the body's colour; alpha 1 for bare metal, 0 for paint.
+    /// Paint multiplied by the body's colour; alpha 1 for bare metal, 0 for paint, -1 for
+    /// matte paint (no highlight).
     pub color: [f32; 4],
 }
 
@@ -70,6 +71,13 @@ fn mark_paint(i: usize) -> Option<[f32; 4]> {
 }
 
 impl MeshData {
+    /// Adds `other`'s triangles.
+    pub fn append(&mut self, other: MeshData) {
+        let base = self.vertices.len() as u32;
+        self.vertices.extend(other.vertices);
+        self.indices.extend(other.indices.into_iter().map(|i| i + base));
+    }
+
     fn quad(&mut self, p: [[f32; 3]; 4], n: [[f32; 3]; 4], color: [f32; 4]) {
         let base = self.vertices.len() as u32;
         for k in 0..4 {
@@ -79,8 +87,8 @@ impl MeshData {
     }
 
     /// A wall of radius `radius` between heights `y0 < y1`; normals outward (`sign` 1) or
-    /// toward the axis (-1). Marks cover the band above `y_mark`.
-    fn wall(&mut self, radius: f32, y0: f32, y1: f32, sign: f32, y_mark: f32) {
+    /// toward the axis (-1). `paint`'s marks cover the band above `y_mark`.
+    fn wall(&mut self, radius: f32, y0: f32, y1: f32, sign: f32, y_mark: f32, paint: Paint) {
         let step = TAU / SEGMENTS as f32;
         for band in 0..2 {
             let (lo, hi) = if band == 0 { (y0, y_mark) } else { (y_mark, y1) };
@@ -88,7 +96,7 @@ impl MeshData {
                 let (a0, a1) = (i as f32 * step, (i + 1) as f32 * step);
                 let n0 = [sign * a0.cos(), 0.0, sign * a0.sin()];
                 let n1 = [sign * a1.cos(), 0.0, sign * a1.sin()];
-                let color = if band == 1 { mark_paint(i).unwrap_or(METAL) } else { METAL };
+                let color = if band == 1 { paint(i).unwrap_or(METAL) } else { METAL };
                 let p = [
                     on_circle(a0, radius, lo),
                     on_circle(a1, radius, lo),
@@ -105,9 +113,17 @@ impl MeshData {
         }
     }
 
-    /// An annulus (or a disk, `inner = 0`) at height `y` facing `+Y` (`up`) or `-Y`; the
-    /// marks are painted on the top one beyond `r_mark`.
-    fn annulus(&mut self, inner: f32, outer: f32, y: f32, up: bool, r_mark: Option<f32>) {
+    /// An annulus (or a disk, `inner = 0`) at height `y` facing `+Y` (`up`) or `-Y`;
+    /// `paint`'s marks are painted on the top one beyond `r_mark`.
+    fn annulus(
+        &mut self,
+        inner: f32,
+        outer: f32,
+        y: f32,
+        up: bool,
+        r_mark: Option<f32>,
+        paint: Paint,
+    ) {
         let step = TAU / SEGMENTS as f32;
         let n = [0.0, if up { 1.0 } else { -1.0 }, 0.0];
         let rings: Vec<(f32, f32, bool)> = match r_mark {
@@ -118,7 +134,7 @@ impl MeshData {
         for (r0, r1, marked) in rings {
             for i in 0..SEGMENTS {
                 let (a0, a1) = (i as f32 * step, (i + 1) as f32 * step);
-                let color = if marked { mark_paint(i).unwrap_or(METAL) } else { METAL };
+                let color = if marked { paint(i).unwrap_or(METAL) } else { METAL };
                 let p = [
                     on_circle(a0, r0, y),
                     on_circle(a0, r1, y),
@@ -135,20 +151,32 @@ impl MeshData {
     }
 }
 
-/// The mesh of a ring (tube) or, for `w >= r`, a solid disk.
+/// The paint of segment `i`, if any.
+type Paint = fn(usize) -> Option<[f32; 4]>;
+
+/// The mesh of a ring (tube) or, for `w >= r`, a solid disk, with its four painted marks.
 pub fn body_mesh(g: &BodyGeometry) -> MeshData {
+    mesh_painted(g, mark_paint)
+}
+
+/// The same body in bare metal: a film's marks are drawn apart ([`super::mark_discs`]).
+pub fn bare_body_mesh(g: &BodyGeometry) -> MeshData {
+    mesh_painted(g, |_| None)
+}
+
+fn mesh_painted(g: &BodyGeometry, paint: Paint) -> MeshData {
     let mut m = MeshData::default();
     let (r, a) = (g.r, 0.5 * g.h);
     let y_mark = a - MARK_DEPTH * g.h;
-    m.wall(r, -a, a, 1.0, y_mark);
+    m.wall(r, -a, a, 1.0, y_mark, paint);
     if g.is_disk() {
-        m.annulus(0.0, r, a, true, Some(0.72 * r));
-        m.annulus(0.0, r, -a, false, None);
+        m.annulus(0.0, r, a, true, Some(0.72 * r), paint);
+        m.annulus(0.0, r, -a, false, None, paint);
     } else {
         let ri = r - g.w;
-        m.wall(ri, -a, a, -1.0, y_mark);
-        m.annulus(ri, r, a, true, Some(ri));
-        m.annulus(ri, r, -a, false, None);
+        m.wall(ri, -a, a, -1.0, y_mark, paint);
+        m.annulus(ri, r, a, true, Some(ri), paint);
+        m.annulus(ri, r, -a, false, None, paint);
     }
     m
 }

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod headless;
 mod kit;
 pub mod lean_paint;
+pub mod mark_discs;
 pub mod mesh;
 mod pipelines;
 pub mod pose;
@@ -19,6 +20,7 @@ pub mod ui_stats;
 
 pub use camera::{CameraView, OrbitCamera};
 pub use headless::{Gpu, RenderError, UiRenderer};
+pub use mark_discs::MarkDiscs;
 pub use mesh::BodyGeometry;
 pub use pipelines::COLOR_FORMAT;
 pub use pose::{BodyPose, world_from_ring};

@@ -2,7 +2,7 @@
 //! target, then (inside egui) a copy of that target into the 3D view's rectangle. Headless
 //! renders read the same target back.
 
-use super::mesh::{self, BodyGeometry, MeshData};
+use super::mesh::{self, MeshData};
 use super::pipelines::{Blit, COLOR_FORMAT, DEPTH_FORMAT, OBJECT_SIZE, Pipelines};
 use super::scene::{BodyDraw, SceneFrame, TraceSegment};
 use bytemuck::{Pod, Zeroable};
@@ -49,6 +49,9 @@ struct ObjectUniform {
     material: [f32; 4],
     _pad: [f32; 40],
 }
+
+/// A body's mesh: its geometry and, for a film, its mark discs.
+type MeshKey = ([u32; 3], Option<[u32; 14]>);
 
 struct GpuMesh {
     vertices: wgpu::Buffer,
@@ -101,7 +104,7 @@ pub struct SceneRenderer {
     textures_group: wgpu::BindGroup,
     shadow_view: wgpu::TextureView,
     table: GpuMesh,
-    bodies: Vec<([u32; 3], GpuMesh)>,
+    bodies: Vec<(MeshKey, GpuMesh)>,
     slots: Vec<Slot>,
 }
 
@@ -248,17 +251,26 @@ impl SceneRenderer {
         });
     }
 
-    /// Meshes for `geoms`, made when missing; returns their indices in `self.bodies`.
-    fn ensure_meshes(&mut self, device: &wgpu::Device, geoms: &[BodyGeometry]) -> Vec<usize> {
-        let keys: Vec<[u32; 3]> = geoms.iter().map(|g| g.key()).collect();
+    /// Meshes for the bodies `drawn`, made when missing; returns their indices in `self.bodies`.
+    fn ensure_meshes(&mut self, device: &wgpu::Device, drawn: &[BodyDraw]) -> Vec<usize> {
+        let keys: Vec<MeshKey> =
+            drawn.iter().map(|b| (b.geometry.key(), b.discs.map(|d| d.key()))).collect();
         // A slider dragging through sizes makes a new mesh per size: keep only a few, never
         // one this frame uses.
         if self.bodies.len() + keys.len() > 6 {
             self.bodies.retain(|(k, _)| keys.contains(k));
         }
-        for g in geoms {
-            if !self.bodies.iter().any(|(k, _)| *k == g.key()) {
-                self.bodies.push((g.key(), GpuMesh::new(device, &mesh::body_mesh(g), "body")));
+        for (b, key) in drawn.iter().zip(&keys) {
+            if !self.bodies.iter().any(|(k, _)| k == key) {
+                let mesh = match &b.discs {
+                    None => mesh::body_mesh(&b.geometry),
+                    Some(d) => {
+                        let mut m = mesh::bare_body_mesh(&b.geometry);
+                        m.append(d.mesh(&b.geometry));
+                        m
+                    }
+                };
+                self.bodies.push((*key, GpuMesh::new(device, &mesh, "body")));
             }
         }
         keys.iter().filter_map(|k| self.bodies.iter().position(|(b, _)| b == k)).collect()
@@ -330,7 +342,7 @@ impl SceneRenderer {
                 frame.focus.x,
                 frame.focus.y,
                 2.0 * reach / SHADOW_SIZE as f32,
-                2.0 * (0.5 * cam.fov_y).tan() / size[1] as f32,
+                cam.pixel_angle(size[1]),
             ],
             contacts,
             background: Vec3::from(BACKGROUND).extend(1.0).to_array(),
@@ -364,8 +376,7 @@ impl SceneRenderer {
             _pad: [0.0; 40],
         }];
         let drawn = &frame.bodies[..frame.bodies.len().min(MAX_OBJECTS - 1)];
-        let geoms: Vec<BodyGeometry> = drawn.iter().map(|b| b.geometry).collect();
-        let meshes = self.ensure_meshes(device, &geoms);
+        let meshes = self.ensure_meshes(device, drawn);
         for b in drawn {
             objects.push(ObjectUniform {
                 model: b.world_from_ring.to_cols_array_2d(),

@@ -1,6 +1,7 @@
 //! What one frame of the 3D view shows, as plain data: the renderer's whole input.
 
 use super::camera::CameraView;
+use super::mark_discs::MarkDiscs;
 use super::mesh::BodyGeometry;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec2};
@@ -18,6 +19,9 @@ pub struct BodyDraw {
     /// ring under the model's when the two agree, instead of the two flickering through
     /// each other.
     pub yields: bool,
+    /// A film's marks: discs where the recording format puts them, instead of the painted
+    /// marks.
+    pub discs: Option<MarkDiscs>,
 }
 
 /// One straight piece of a trace on the table (an instance of the trace pipeline).
@@ -52,7 +56,7 @@ pub struct SceneFrame {
     pub traces: Vec<TraceSegment>,
     /// A length that sets the size of things (the outer radius of the first body).
     pub scale: f32,
-    /// Spacing of the table's minor grid lines (major lines every five).
+    /// Spacing of the table's minor grid lines (major lines every five); 0: no grid.
     pub grid_spacing: f32,
     /// Where the table is sharpest; it fades into the background far from here.
     pub focus: Vec2,

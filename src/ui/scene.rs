@@ -159,6 +159,7 @@ pub fn body_draw(track: &Track, t: f64, color: [f32; 3]) -> Option<BodyDraw> {
         color,
         contact: pose.contact,
         yields: false,
+        discs: None,
     })
 }
 
@@ -211,6 +212,7 @@ pub fn add_recording(frame: &mut SceneFrame, path: &[[f64; 2]], ring: Option<(&B
             color: DATA_BODY_LINEAR,
             contact: pose.contact,
             yields: true,
+            discs: None,
         });
     }
 }

@@ -155,6 +155,23 @@ fn dots_on_a_disk_are_tracked_within_the_goal() {
     check_film("disk-dark-none-mid", aluminium_disk(), 0.7);
 }
 
+/// Films made by ringlab's own renderer (`ringlab render --view film`, the commands in
+/// docs/film.md): 119 frames of 640x512, coloured marks and dark dots, with their exact truth.
+#[test]
+fn films_of_ringlabs_own_renderer_are_tracked_within_the_goal_with_their_scale() {
+    for (name, style) in
+        [("rendered-colours", MarkStyle::Colours), ("rendered-dark", MarkStyle::Dark)]
+    {
+        let t = check_film(name, steel_ring(), 0.7);
+        assert_eq!(t.report.style, style, "{name}");
+        let truth = read_recording(&test_data(&format!("video/{name}.truth.csv"))).expect("truth");
+        let s = t.report.ring_scale.as_ref().expect("a scale");
+        let k = truth.header.px_per_mm;
+        assert!((s.px_per_mm / k - 1.0).abs() < 0.01, "{name}: {} against {k}", s.px_per_mm);
+        assert!(s.table.is_none(), "{name}: a far camera");
+    }
+}
+
 #[test]
 fn the_scale_from_the_ring_is_within_a_percent_for_a_far_camera() {
     for (name, body, truth) in [
