@@ -46,6 +46,8 @@ struct Comparison {
     found: f64,
     far: usize,
     extra: usize,
+    /// Frames whose marks fit another numbering within 3 px but not the film's own.
+    swaps: usize,
 }
 
 fn compare(tracked: &[FrameMarks], truth: &[FrameMarks]) -> Comparison {
@@ -79,7 +81,20 @@ fn compare(tracked: &[FrameMarks], truth: &[FrameMarks]) -> Comparison {
     let extra = (0..n)
         .map(|i| (0..4).filter(|&j| truth[i][j].is_none() && tracked[i][best[j]].is_some()).count())
         .sum();
+    let within = |i: usize, perm: &[usize; 4]| {
+        let e: Vec<f64> = (0..4)
+            .filter_map(|j| {
+                let (t, m) = (truth[i][j]?, tracked[i][perm[j]]?);
+                Some((t[0] - m[0]).hypot(t[1] - m[1]))
+            })
+            .collect();
+        !e.is_empty() && e.iter().all(|&x| x <= 3.0)
+    };
+    let swaps = (0..n)
+        .filter(|&i| !within(i, best) && labellings.iter().any(|p| p != best && within(i, p)))
+        .count();
     Comparison {
+        swaps,
         rms: (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt(),
         found: e.len() as f64 / visible as f64,
         far: e.iter().filter(|&&x| x > 3.0).count(),
@@ -137,6 +152,21 @@ fn the_opening_of_a_film_is_tracked_from_its_first_frame() {
     // Off by more than 3 px only in the first few frames, never after.
     let late: Vec<FrameMarks> = t.recording.frames[10..].to_vec();
     assert_eq!(compare(&late, &truth.frames[10..]).far, 0);
+}
+
+/// A phone's film: `colours-none` at 2 px per mm, 240 frames/s, crf 28 (`make-phone.sh`),
+/// where a coloured mark is about one chroma sample. The goal is 1.4 px and 98% found: the
+/// RMS is met; the share found (`docs/film.md`) is not yet, and is held where it stands.
+#[test]
+fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
+    let t =
+        run(&test_data("video/colours-none-phone.mp4"), &options(steel_ring())).expect("tracks");
+    let truth = read_recording(&test_data("video/colours-none-phone.truth.csv")).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert_eq!(t.report.style, MarkStyle::Colours);
+    assert!(c.rms <= 1.4, "rms {:.3} px", c.rms);
+    assert!(c.found >= 0.92, "found {:.1}%", 100.0 * c.found);
+    assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }
 
 #[test]

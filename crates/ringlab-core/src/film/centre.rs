@@ -27,6 +27,9 @@ pub struct Centre {
     pub sigma: f64,
     /// Colour marks: the blob's fitted width (px); dots: zero.
     pub width: f64,
+    /// Colour marks: placed only to the nearest chroma sample (no blob could be fitted), to be
+    /// placed on the brightness or not at all.
+    pub coarse: bool,
 }
 
 const MIN_WIDTH: f64 = 0.5;
@@ -182,6 +185,7 @@ pub fn colour_centre(
         chroma: amp,
         sigma,
         width: p[2],
+        coarse: false,
     })
 }
 
@@ -277,6 +281,7 @@ pub fn dot_centre(
             chroma: [0.0; 2],
             sigma,
             width: 0.0,
+            coarse: false,
         });
         if moved < 1e-3 {
             break;

@@ -6,8 +6,10 @@
 //! counted, never swapped.
 
 use super::centre::{Centre, MAX_WIDTH, Polarity, colour_centre, dot_centre};
+use super::choice::{Choice, blend};
 use super::find::{Found, find_marks_sized};
 use super::frame::{CHROMA_OFFSET, Frame};
+use super::rim::{RingView, rim_centre};
 use super::{MarkStyle, Roi};
 use crate::recording::FrameMarks;
 
@@ -52,11 +54,15 @@ pub struct Follower {
     range: (f64, f64),
     /// The marks' semi-major axis when last all found (px).
     size: f64,
+    /// Colours: for each mark, its chroma centre or its centre on the brightness.
+    choice: Choice,
     /// Times the four were found anew in a frame (after a loss or at the start).
     pub refound: usize,
 }
 
 const HISTORY: usize = 4;
+/// Colours: the brightness centre may lie this far (px) from the chroma's.
+const REACH: f64 = 3.0;
 /// A coloured mark's blob may be fitted up to this many times its typical width.
 const WIDEST: f64 = 1.6;
 /// Discs tried: the dot's radius as first measured plus these (px). The parallelogram's gap
@@ -141,6 +147,7 @@ impl Follower {
             roi,
             range,
             size,
+            choice: Choice::default(),
             refound: 0,
         };
         // The strengths and hues by the same measure as later frames.
@@ -420,6 +427,42 @@ impl Follower {
         }
     }
 
+    /// Colours: the chroma sample at `peak` as a mark too faint or smeared for a blob's fit,
+    /// its colour that sample's departure from the ring of samples round it.
+    fn coarse_colour(&self, frame: &Frame, k: usize, peak: [f64; 2]) -> Option<Centre> {
+        if self.style != MarkStyle::Colours {
+            return None;
+        }
+        let (cb, cr) = (frame.cb_plane(), frame.cr_plane());
+        let (i, j) = (
+            ((peak[0] - CHROMA_OFFSET) / 2.0).round() as i64,
+            ((peak[1] - CHROMA_OFFSET) / 2.0).round() as i64,
+        );
+        let r = 4;
+        if !cb.holds(i, j, r) {
+            return None;
+        }
+        let mut chroma = [0.0; 2];
+        for (c, plane) in chroma.iter_mut().zip([&cb, &cr]) {
+            let mut bg = 0.0;
+            for d in -r..=r {
+                for (a, b) in [(d, -r), (d, r), (-r, d), (r, d)] {
+                    bg += plane.at((i + a) as usize, (j + b) as usize);
+                }
+            }
+            *c = plane.at(i as usize, j as usize) - bg / (16 * r + 4) as f64;
+        }
+        Some(Centre {
+            x: peak[0],
+            y: peak[1],
+            strength: chroma[0].hypot(chroma[1]),
+            chroma,
+            sigma: 1.0,
+            width: self.marks[k].width.unwrap_or(1.2),
+            coarse: true,
+        })
+    }
+
     /// Mark `k` searched for near `p`: its centre, if it is there and looks like itself.
     fn look(&self, frame: &Frame, k: usize, p: [f64; 2], gate: f64) -> Option<Centre> {
         let peak = self.peak_near(frame, k, p, gate)?;
@@ -427,7 +470,8 @@ impl Follower {
         // again from where the mark was predicted.
         let fitted = self
             .centre_at(frame, peak[0], peak[1], k, 3.0)
-            .or_else(|| self.centre_at(frame, p[0], p[1], k, 3.0));
+            .or_else(|| self.centre_at(frame, p[0], p[1], k, 3.0))
+            .or_else(|| self.coarse_colour(frame, k, peak));
         let c = fitted?;
         if (c.x - p[0]).hypot(c.y - p[1]) > gate + 1.0 {
             return None;
@@ -442,6 +486,77 @@ impl Follower {
             return None;
         }
         Some(c)
+    }
+
+    /// Colours: a mark neither followed nor placed by three others, where two others were
+    /// found, looked for by its hue round the ring (its hue names it).
+    fn by_hue_round_the_ring(&self, frame: &Frame, index: u64, found: &mut [Option<Centre>; 4]) {
+        let seen: Vec<[f64; 2]> = found.iter().flatten().map(|c| [c.x, c.y]).collect();
+        if seen.len() < 2 || seen.len() == 4 || !(self.size > 0.0) {
+            return;
+        }
+        let opposite = (0..2).find_map(|k| found[k].zip(found[k + 2]));
+        // A between an opposite pair, else near the marks seen (A lies within the ring's size).
+        let (centre, reach) = match opposite {
+            Some((a, b)) => ([(a.x + b.x) / 2.0, (a.y + b.y) / 2.0], 1.25 * self.size + 3.0),
+            None => {
+                let n = seen.len() as f64;
+                let m = [
+                    seen.iter().map(|p| p[0]).sum::<f64>() / n,
+                    seen.iter().map(|p| p[1]).sum::<f64>() / n,
+                ];
+                (m, 2.0 * self.size + 3.0)
+            }
+        };
+        for k in 0..4 {
+            if found[k].is_none() && self.predict(k, index).is_none() {
+                found[k] = self.look(frame, k, centre, reach);
+            }
+        }
+    }
+
+    /// Colours: each mark's centre on the brightness (`rim`), taken in place of its chroma
+    /// centre where the marks' parallelogram says it is the better (`choice`).
+    fn on_brightness(&mut self, frame: &Frame, index: u64, found: &mut [Option<Centre>; 4]) {
+        let at = |k: usize| found[k].map(|c| [c.x, c.y]);
+        // The ring's figure: a mark not found where the other three or its motion put it.
+        let figure: [Option<[f64; 2]>; 4] = std::array::from_fn(|k| {
+            at(k).or_else(|| match (at((k + 1) % 4), at((k + 2) % 4), at((k + 3) % 4)) {
+                (Some(a), Some(b), Some(c)) => Some([a[0] + c[0] - b[0], a[1] + c[1] - b[1]]),
+                _ => self.predict(k, index).map(|p| p.0),
+            })
+        });
+        let ring = match figure {
+            [Some(a), Some(b), Some(c), Some(d)] => RingView::from_marks([a, b, c, d]),
+            _ => None,
+        };
+        let Some(ring) = ring else {
+            for f in found.iter_mut() {
+                *f = f.filter(|c| !c.coarse);
+            }
+            return;
+        };
+        let luma = frame.luma_plane();
+        let on_luma: [Option<Centre>; 4] = std::array::from_fn(|k| {
+            let c = found[k]?;
+            let radius = (1.5 * self.marks[k].width.unwrap_or(c.width)).clamp(2.0, 8.0);
+            rim_centre(&luma, &ring, k, [c.x, c.y], radius, REACH)
+        });
+        if let ([Some(a), Some(b), Some(c), Some(d)], [Some(e), Some(f), Some(g), Some(h)]) =
+            (*found, on_luma)
+        {
+            let xy = |c: Centre| [c.x, c.y];
+            self.choice.add([a, b, c, d].map(xy), [e, f, g, h].map(xy));
+        }
+        for k in 0..4 {
+            if let (Some(c), Some(l)) = (found[k].as_mut(), on_luma[k]) {
+                let w = if c.coarse { 1.0 } else { self.choice.second(k) };
+                [c.x, c.y] = blend([c.x, c.y], [l.x, l.y], w);
+                c.sigma = (1.0 - w) * c.sigma + w * l.sigma;
+                c.coarse = false;
+            }
+            found[k] = found[k].filter(|c| !c.coarse);
+        }
     }
 
     /// One frame: the marks found in it.
@@ -483,6 +598,10 @@ impl Follower {
                 let size = (a.x - c.x).hypot(a.y - c.y);
                 found[k] = self.look(frame, k, p, (0.08 * size + 3.0).min(10.0));
             }
+        }
+        if self.style == MarkStyle::Colours {
+            self.by_hue_round_the_ring(frame, index, &mut found);
+            self.on_brightness(frame, index, &mut found);
         }
         // Four points 90 degrees apart on a circle make a parallelogram (nearly, through a
         // near camera): one mark far off it was taken from something else. Which one: the

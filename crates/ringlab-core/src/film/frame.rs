@@ -97,6 +97,25 @@ impl Plane<'_> {
     pub fn holds(&self, x: i64, y: i64, r: i64) -> bool {
         x - r >= 0 && y - r >= 0 && x + r < self.width as i64 && y + r < self.height as i64
     }
+    /// The plane interpolated between its four nearest samples; `None` off the plane.
+    pub fn bilinear(&self, x: f64, y: f64) -> Option<f64> {
+        let (x0, y0) = (x.floor(), y.floor());
+        if !(x0 >= 0.0
+            && y0 >= 0.0
+            && x0 + 1.0 < self.width as f64
+            && y0 + 1.0 < self.height as f64)
+        {
+            return None;
+        }
+        let (fx, fy) = (x - x0, y - y0);
+        let (i, j) = (x0 as usize, y0 as usize);
+        Some(
+            self.at(i, j) * (1.0 - fx) * (1.0 - fy)
+                + self.at(i + 1, j) * fx * (1.0 - fy)
+                + self.at(i, j + 1) * (1.0 - fx) * fy
+                + self.at(i + 1, j + 1) * fx * fy,
+        )
+    }
 }
 
 impl Frame {

@@ -7,11 +7,13 @@
 //! found, left out, and the centres' error.
 
 pub mod centre;
+pub mod choice;
 pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
 pub mod pose_error;
+pub mod rim;
 pub mod scale;
 pub mod source;
 

@@ -1,0 +1,59 @@
+#!/bin/sh
+# Stand-ins for a phone's film: the shared films (../../../../shared/data/video/) scaled down to
+# 2 px per mm (area-averaged), re-encoded at 240 frames/s by libx264 at a given crf (yuv420p),
+# the true centres scaled alike.
+#
+#   make-phone.sh OUTDIR [SHARED]     every stand-in of docs/film.md, at crf 23 and 28, in OUTDIR
+#   make-phone.sh --test-cut [SHARED] the small cut the tests keep (tests/data/video/)
+#
+# A pixel's centre is at integer coordinates in the truth as in the tracker, so a centre
+# scaled by s is (x + 0.5) s - 0.5, as the scale filter maps pixels.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+
+# stand_in SHARED NAME FIRST LAST CRF OUT: frames FIRST..LAST of NAME as OUT.mp4, OUT.truth.csv
+stand_in() {
+    src="$1/$2.mp4"
+    truth="$1/$2.truth.csv"
+    scale=$(awk -F'= *' '/^# px_per_mm/ {print $2}' "$truth")
+    w=$(awk -F'= *' '/^# image_width_px/ {print $2}' "$truth")
+    h=$(awk -F'= *' '/^# image_height_px/ {print $2}' "$truth")
+    # Even sizes (4:2:0) nearest 2 px per mm.
+    nw=$(awk -v w="$w" -v s="$scale" 'BEGIN {printf "%d", int(w * 2 / s / 2 + 0.5) * 2}')
+    nh=$(awk -v h="$h" -v s="$scale" 'BEGIN {printf "%d", int(h * 2 / s / 2 + 0.5) * 2}')
+    ffmpeg -loglevel error -y -i "$src" \
+        -vf "select='between(n,$3,$4)',scale=$nw:$nh:flags=area,setpts=N/240/TB" \
+        -r 240 -c:v libx264 -crf "$5" -pix_fmt yuv420p "$6.mp4"
+    awk -F, -v OFS=, -v first="$3" -v last="$4" \
+        -v w="$w" -v h="$h" -v nw="$nw" -v nh="$nh" '
+        BEGIN { fx = nw / w; fy = nh / h }
+        /^# px_per_mm/ { split($0, a, "= *"); printf "# px_per_mm = %.6f\n", a[2] * (fx + fy) / 2; next }
+        /^# fps/ { print "# fps = 240"; next }
+        /^# image_width_px/ { print "# image_width_px = " nw; next }
+        /^# image_height_px/ { print "# image_height_px = " nh; next }
+        /^#/ || /^frame/ { print; next }
+        $1 >= first && $1 <= last {
+            $1 = $1 - first
+            for (i = 2; i <= 9; i++) if ($i != "") {
+                $i = sprintf("%.2f", ($i + 0.5) * (i % 2 == 0 ? fx : fy) - 0.5)
+            }
+            print
+        }' "$truth" >"$6.truth.csv"
+}
+
+if [ "${1:-}" = "--test-cut" ]; then
+    shared=${2:-$here/../../../../shared/data/video}
+    stand_in "$shared" colours-none 300 539 28 "$here/colours-none-phone"
+    exit 0
+fi
+
+out=${1:?usage: make-phone.sh OUTDIR [SHARED] | --test-cut [SHARED]}
+shared=${2:-$here/../../../../shared/data/video}
+mkdir -p "$out"
+for crf in 23 28; do
+    stand_in "$shared" colours-none 249 848 "$crf" "$out/colours-none-crf$crf"
+    stand_in "$shared" colours-none 0 299 "$crf" "$out/colours-none-opening-crf$crf"
+    stand_in "$shared" colours-reynolds-flicker 249 848 "$crf" "$out/colours-reynolds-flicker-crf$crf"
+    stand_in "$shared" dark-perspective 249 848 "$crf" "$out/dark-perspective-crf$crf"
+    stand_in "$shared" disk-dark-none 0 535 "$crf" "$out/disk-dark-none-crf$crf"
+done
