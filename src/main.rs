@@ -72,6 +72,13 @@ fn main() -> Result<()> {
             for k in EffectKind::ALL {
                 let (lo, hi) = k.realistic_range();
                 println!("{:<20} {:<52} realistic {lo} .. {hi}", k.name(), k.parameter());
+                for x in k.descriptor().extras {
+                    let ((lo, hi), (a, b)) = (x.realistic, x.bounds);
+                    println!(
+                        "{:<20} + {:<50} realistic {lo} .. {hi}, bounds {a} .. {b}",
+                        "", x.name
+                    );
+                }
             }
             Ok(())
         }

@@ -1,24 +1,32 @@
-//! `--effect NAME --effect-strength X` (repeatable): the physics beyond the paper's model, by
-//! the names and dimensionless strengths of `physics::effects`.
+//! `--effect NAME --effect-strength X` (repeatable), with `--effect-extra X` for an effect's
+//! numbers beyond its strength: the physics beyond the paper's model, by the names,
+//! dimensionless strengths and extra numbers of `physics::effects`.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use ringlab::config::Case;
-use ringlab::physics::effects::apply;
+use ringlab::physics::effects::{ApplyAt, apply_with_extras};
 use ringlab::physics::slip::painleve_mu_limit;
 use ringlab::physics::{EffectKind, Sample, SlipStart};
+use ringlab::recording::Camera;
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct EffectArgs {
     /// Add physics beyond the paper's model (repeatable): reynolds_drag, rolling_friction,
-    /// pivot_friction, slip, translational_drag (or none); each takes an --effect-strength,
-    /// in the same order. `ringlab effects` lists them with their strengths and ranges
+    /// pivot_friction, slip, translational_drag, table_slope (or none); each takes an
+    /// --effect-strength, in the same order. `ringlab effects` lists them with their strengths,
+    /// extra numbers and ranges
     #[arg(long = "effect", value_name = "NAME")]
     pub effect: Vec<String>,
     /// Strength of the --effect at the same position (dimensionless: the Reynolds exponent n,
     /// arms k/R, the friction coefficient mu, or k R)
     #[arg(long = "effect-strength", value_name = "X", allow_negative_numbers = true)]
     pub effect_strength: Vec<f64>,
+    /// The effects' extra numbers beyond their strengths (repeatable), each effect's in turn in
+    /// the order of --effect (table_slope's direction in degrees, ...); those not given stay
+    /// where the effect starts them
+    #[arg(long = "effect-extra", value_name = "X", allow_negative_numbers = true)]
+    pub effect_extra: Vec<f64>,
     /// With --effect slip: how a start that needs more friction than mu F_N begins: cone
     /// (slides at once) or held (rolls on until it needs no more, as an event-driven hybrid
     /// simulator started rolling does)
@@ -106,14 +114,19 @@ impl EffectArgs {
             case.model.effects.slip_start = start;
         }
         let start = Sample::new(&case.model, 0.0, &case.initial.to_state());
+        let at = ApplyAt::new(case.model.body.r, start.reynolds);
+        // No camera here: the physical effects' extras leave it alone.
+        let mut camera = Camera::centred(1.0, 1.0, 1.0).numbers();
+        let mut extras = self.effect_extra.iter().copied();
         for &(kind, x) in &effects {
             if kind.is_camera() {
                 bail!(
                     "--effect {kind} changes the camera, not the motion: give it to `ringlab synth`"
                 );
             }
+            let own: Vec<f64> = extras.by_ref().take(kind.descriptor().extras.len()).collect();
             let mut e = case.model.effects;
-            apply(kind, x, case.model.body.r, start.reynolds, &mut e).with_context(|| {
+            apply_with_extras(kind, x, &own, &at, &mut e, &mut camera).with_context(|| {
                 format!("--effect-strength {x} for {kind} ({})", kind.parameter())
             })?;
             let mut model = case.model.clone();
@@ -128,6 +141,12 @@ impl EffectArgs {
                 bail!("--effect-strength {x} for {kind}: {err}");
             }
             case.model = model;
+        }
+        let left = extras.count();
+        if left > 0 {
+            bail!(
+                "{left} --effect-extra values beyond the extra numbers of the effects given (`ringlab effects` lists each effect's)"
+            );
         }
         Ok(effects)
     }

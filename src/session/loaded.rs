@@ -233,6 +233,7 @@ impl LoadedRecording {
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
             slip_start_held: e.slip_start == crate::physics::SlipStart::HeldRolling,
+            table_slope: e.table_slope.map(|t| [t.angle.to_degrees(), t.direction.to_degrees()]),
         };
         self.case_file_with(
             name,

@@ -88,6 +88,7 @@ pub fn parameters_ui(
     if slider(ui, &mut f.run.mu, 0.05..=1.5, "mu (static friction)", "", false) {
         change = change.and(Change::Drag);
     }
+    change = change.and(slope_ui(ui, f));
 
     ui.add_space(6.0);
     ui.label(RichText::new("Start").strong());
@@ -153,6 +154,19 @@ pub fn parameters_ui(
         }
     }
     change
+}
+
+/// The table's slope (`effects/table_slope.rs`): its tilt from level and the direction it
+/// falls toward, in degrees; a tilt of zero is a level table (the paper's model).
+fn slope_ui(ui: &mut egui::Ui, f: &mut CaseFile) -> Change {
+    let [mut angle, mut direction] = f.effects.table_slope.unwrap_or([0.0, 0.0]);
+    let mut moved = slider(ui, &mut angle, 0.0..=1.0, "table slope", " deg", false);
+    moved |= slider(ui, &mut direction, 0.0..=360.0, "slope toward", " deg", false);
+    if !moved {
+        return Change::None;
+    }
+    f.effects.table_slope = (angle > 0.0).then_some([angle, direction]);
+    Change::Drag
 }
 
 /// A preset picker; returns the chosen preset's file when one was picked.

@@ -9,6 +9,7 @@
 //! unit then follows) or `"mm"` (mm, s, `g = 9810 mm/s^2`). Angles are in rad, rates in rad
 //! per time unit. Drag coefficients are dimensionless in both.
 
+use crate::physics::effects::table_slope::TableSlope;
 use crate::physics::integrator::Tolerances;
 use crate::physics::{
     Body, Conversion, Effects, Initial, Model, ReynoldsDrag, RunOptions, Shape, SlipStart, Units,
@@ -155,6 +156,9 @@ pub struct EffectsSection {
     /// at once (`physics::SlipStart`).
     #[serde(default, skip_serializing_if = "is_false")]
     pub slip_start_held: bool,
+    /// `[angle, direction]` in degrees: a table tilted from level by `angle` toward
+    /// `direction` (from the table's +X axis, turning toward +Y), see `effects/table_slope.rs`.
+    pub table_slope: Option<[f64; 2]>,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -247,6 +251,10 @@ impl CaseFile {
             translational_drag: e.translational_drag,
             slip_mu: e.slip_mu,
             slip_start: if e.slip_start_held { SlipStart::HeldRolling } else { SlipStart::Cone },
+            table_slope: e.table_slope.map(|[angle, direction]| TableSlope {
+                angle: angle.to_radians(),
+                direction: direction.to_radians(),
+            }),
             ..Default::default()
         };
         let model = model.with_effects(effects).map_err(|e| format!("[effects] {e}"))?;

@@ -266,13 +266,12 @@ fn a_path_that_fits_worse_than_its_ceiling_stops_there() {
     let (rec, _) = concealed_recording(EffectKind::None, SEED).expect("a concealed recording");
     let cancel = AtomicBool::new(false);
     let base = fit(&rec, &FitOptions::default(), &|_| {}, &cancel).expect("a fit");
-    let ms = base.shooting(&rec.frames);
+    let ms = base.shooting(&rec.frames, &cancel);
     let sh = with_effect(&ms, EffectKind::None);
     let g = sh.spec.to_internal(&sh.spec.initial_values());
     let span = ms.segments[0].start..ms.segments[ms.segments.len() - 1].end;
     let (stopped, levels) =
-        fit_path(&sh, g.clone(), &base.segment_states, &|_| 0.0, &mut |_, _| {}, &cancel)
-            .expect("a path");
+        fit_path(&sh, g.clone(), &base.segment_states, &|_| 0.0, &mut |_, _| {}).expect("a path");
     assert_eq!(levels.len(), 1, "stopped after the first stage");
     assert_eq!(stopped.span, span);
     assert!(
@@ -280,8 +279,8 @@ fn a_path_that_fits_worse_than_its_ceiling_stops_there() {
         "one run over the whole span fits worse than the segments"
     );
     assert!(stopped.c_sigma.iter().all(|s| s.is_infinite()));
-    let (whole, all) = fit_path(&sh, g, &base.segment_states, &no_ceiling, &mut |_, _| {}, &cancel)
-        .expect("a path");
+    let (whole, all) =
+        fit_path(&sh, g, &base.segment_states, &no_ceiling, &mut |_, _| {}).expect("a path");
     assert_eq!(all.last().map(|l| l.segments.len()), Some(1));
     assert_eq!(whole.span, span);
     assert!(whole.rms_px() < 0.6 && whole.cost < stopped.cost, "{} px", whole.rms_px());

@@ -7,7 +7,7 @@ mod common;
 use ringlab_core::analysis::diagnose::{DIAGNOSE_TOLERANCES, SLIP_TOLERANCES};
 use ringlab_core::analysis::fit::last_runs::LastRuns;
 use ringlab_core::analysis::fit::shooting::{
-    PredictedMarks, Prediction, Shooting, StepChoice, predict_with_steps,
+    NEVER_CANCELLED, PredictedMarks, Prediction, Shooting, StepChoice, predict_with_steps,
 };
 use ringlab_core::analysis::fit::{
     FitError, FitOptions, FitProgress, FitResult, FitStage, ModelSpec, StartReynolds, fit,
@@ -240,6 +240,7 @@ fn the_projection_sees_the_marks_heights_through_a_pinhole() {
             length_mm: s.length_mm,
             budget: None,
             last_runs: LastRuns::default(),
+            cancel: &NEVER_CANCELLED,
         };
         let predicted: PredictedMarks =
             s.samples.iter().map(|x| sh.project(&sh.geometry, &camera, x)).collect();

@@ -123,6 +123,49 @@ fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+impl FitJson {
+    /// A model fitted by the diagnosis `d`: its misfit, BIC and numbers by name.
+    fn of(f: &crate::analysis::diagnose::ModelFit, d: &Diagnosis) -> FitJson {
+        let mut params = BTreeMap::new();
+        for i in 0..3 {
+            params.insert(format!("C{}", i + 1), finite(f.c[i]));
+            params.insert(format!("C{}_sigma", i + 1), finite(f.c_sigma[i]));
+        }
+        for (i, name) in ["R_mm", "h_mm"].iter().enumerate() {
+            params.insert(name.to_string(), finite(f.body_mm[i].0));
+            params.insert(format!("{name}_sigma"), finite(f.body_mm[i].1));
+        }
+        if let Some((v, s)) = f.strength {
+            params.insert(f.effect.name().to_string(), finite(v));
+            params.insert(format!("{}_sigma", f.effect.name()), finite(s));
+        }
+        // Each effect's extra numbers under the keys its file gives them (a pinhole's
+        // camera_tilt_deg, reynolds_rim_share, table_slope_direction_deg, ...).
+        for x in &f.extras {
+            if let Some(key) = x.json() {
+                params.insert(key.into(), finite(x.value.0));
+                params.insert(format!("{key}_sigma"), finite(x.value.1));
+            }
+        }
+        if let Some([along, across]) = f.slip_start_mm_s() {
+            params.insert("slip_start_along_mm_s".into(), finite(along));
+            params.insert("slip_start_across_mm_s".into(), finite(across));
+        }
+        FitJson {
+            rms_px: f.rms_px,
+            excess_px: d.excess_px(f.rms_px),
+            score: f.score,
+            effect: f.effect.name(),
+            params,
+            end_s: f.end_s,
+            slip_start: f.model.effects.slip_mu.map(|_| match f.model.effects.slip_start {
+                SlipStart::Cone => "cone",
+                SlipStart::HeldRolling => "held_rolling",
+            }),
+        }
+    }
+}
+
 impl DiagnoseJson {
     pub fn new(d: &Diagnosis) -> DiagnoseJson {
         let window = |w: &crate::analysis::diagnose::MismatchWindow| WindowJson {
@@ -130,45 +173,6 @@ impl DiagnoseJson {
             end_s: w.end_s,
             rms_px: w.rms_px,
             share: w.share,
-        };
-        let fit = |f: &crate::analysis::diagnose::ModelFit| {
-            let mut params = BTreeMap::new();
-            for i in 0..3 {
-                params.insert(format!("C{}", i + 1), finite(f.c[i]));
-                params.insert(format!("C{}_sigma", i + 1), finite(f.c_sigma[i]));
-            }
-            for (i, name) in ["R_mm", "h_mm"].iter().enumerate() {
-                params.insert(name.to_string(), finite(f.body_mm[i].0));
-                params.insert(format!("{name}_sigma"), finite(f.body_mm[i].1));
-            }
-            if let Some((v, s)) = f.strength {
-                params.insert(f.effect.name().to_string(), finite(v));
-                params.insert(format!("{}_sigma", f.effect.name()), finite(s));
-            }
-            // Each effect's extra numbers under the keys its file gives them (a pinhole's
-            // camera_tilt_deg, reynolds_rim_share, table_slope_direction_deg, ...).
-            for x in &f.extras {
-                if let Some(key) = x.json() {
-                    params.insert(key.into(), finite(x.value.0));
-                    params.insert(format!("{key}_sigma"), finite(x.value.1));
-                }
-            }
-            if let Some([along, across]) = f.slip_start_mm_s() {
-                params.insert("slip_start_along_mm_s".into(), finite(along));
-                params.insert("slip_start_across_mm_s".into(), finite(across));
-            }
-            FitJson {
-                rms_px: f.rms_px,
-                excess_px: d.excess_px(f.rms_px),
-                score: f.score,
-                effect: f.effect.name(),
-                params,
-                end_s: f.end_s,
-                slip_start: f.model.effects.slip_mu.map(|_| match f.model.effects.slip_start {
-                    SlipStart::Cone => "cone",
-                    SlipStart::HeldRolling => "held_rolling",
-                }),
-            }
         };
         DiagnoseJson {
             left_out: d.finding.name(),
@@ -197,8 +201,8 @@ impl DiagnoseJson {
                 .collect(),
             consistent_ratio: CONSISTENT_RATIO,
             mismatch: d.mismatch.as_ref().map(window),
-            before: fit(&d.before),
-            after: fit(&d.after),
+            before: FitJson::of(&d.before, d),
+            after: FitJson::of(&d.after, d),
             candidates: d
                 .candidates
                 .iter()

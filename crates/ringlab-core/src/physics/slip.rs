@@ -1,44 +1,19 @@
 //! The sliding contact: Coulomb friction at the contact point P while it slips over the table.
 //!
-//! The paper assumes pure rolling throughout and names slippage at the cusps as one suspect
-//! for the drift between model and experiment (section III). While the contact slides the
-//! horizontal velocity of the centre of mass is no longer `omega x r_G`: it becomes state. The
-//! sliding state is `[phi, theta, psi, w1, w2, w3, x_C, y_C, vx_C, vy_C]` (table components of
-//! the horizontal velocity of C); the vertical velocity still follows from P staying on the
-//! table, `z_C = (h/2) sin(theta) + R cos(theta)`, `z_C' = kappa w1`,
-//! `kappa = (h/2) cos(theta) - R sin(theta)`.
+//! The paper assumes pure rolling and names slippage at the cusps as one suspect for the drift
+//! between model and experiment (section III); this is that suspect as a model. While the
+//! contact slides, the horizontal velocity of the centre of mass is state of its own (the
+//! sliding state adds `vx_C, vy_C`), the contact force is `F_N (Z - mu s)` with one `mu` for
+//! static and kinetic friction, and the normal force comes in closed form from P staying on the
+//! table. A table that would have to pull exerts nothing (the run reports the lift-off).
 //!
-//! Equations (m = 1, frame components, `Z = (0, sin(theta), cos(theta))`):
-//! - slip velocity `v_s = v_C - omega x r_G` (horizontal: its `Z` part is `z_C' - kappa w1 = 0`);
-//! - contact force `F = F_N (Z - mu s)`, `s` the unit slip direction (kinetic friction
-//!   `-mu F_N v_s/|v_s|`); one `mu` serves as static and kinetic coefficient;
-//! - eq. 1: `I w' = -Omega x I w + J tau + F_N u - r_G x F` (`J tau` the paper's drag torque,
-//!   eq. 5, the same physical torque as while rolling; `F_N u` rolling and pivot friction);
-//! - eq. 2, horizontal: `v_h' = F_h + F_d,h`; vertical: `F_N - g + F_d . Z = z_C''`
-//!   `= kappa w1' - z_C w1^2`. With `w1' = (b_1 + F_N m_1) / I_1`
-//!   (`b = -Omega x I w + J tau`, `m = u - r_G x (Z - mu s)`) this gives `F_N` in closed form:
-//!   `F_N (1 - kappa m_1 / I_1) = g - F_d . Z + kappa b_1 / I_1 - z_C w1^2`;
-//! - a table that would have to pull (`F_N < 0`) exerts nothing: the solve is redone without
-//!   friction (continuous at `F_N = 0`), and the run reports the lift-off.
+//! That closed form fails for large `mu` (Painleve's paradox): [`painleve_mu_limit`] gives the
+//! bound and [`Model::check_effects`] refuses larger `mu`. The switches between rolling and
+//! sliding are events of the run (`run/switch.rs`); the slip's reference direction is set by
+//! events too, so the equations never depend on the steps taken
+//! ([`SlidingModel::friction_direction`]).
 //!
-//! The solve is well posed while `1 - kappa m_1 / I_1 > 0`. With `m_1 = -kappa - mu s_2 z_C + u_1`
-//! (`s_2` the slip direction's component normal to `e1`) it can fail for large `mu`: Painleve's
-//! paradox. [`painleve_mu_limit`] gives the bound; [`Model::check_effects`] refuses larger `mu`.
-//!
-//! Energy: `dE/dt = F . v_P + (drag, friction torques) = -mu F_N |v_s| + ... <= 0`.
-//!
-//! Transitions (handled by the run, `run/switch.rs`, as events on the dense output):
-//! - rolling turns to sliding where `|F_t| > mu F_N` for the friction `F_t` that rolling needs
-//!   (or where `F_N <= 0`); the slip starts from zero in the direction opposite to `F_t`, the
-//!   limit of the consistent direction as the excess demand goes to zero;
-//! - the slip's reference direction `s_ref` follows the slip while it is fast and is set to the
-//!   slip's own direction where the slip speed falls to 40 creep speeds (an event), so the
-//!   equations never depend on the steps taken ([`SlidingModel::friction_direction`]);
-//! - the slip has run out where its component along `s_ref` reaches zero: if no more than the
-//!   creep speed is left and rolling then needs no more than `mu F_N`, the contact sticks (a
-//!   plastic impulse at P removes that creep-level slip, which cannot add energy); if more is
-//!   left the slip has turned and it slides on with `s_ref` turned; otherwise it slides on
-//!   from zero slip in the onset direction.
+//! The equations, the energy balance and the transition rules are in `docs/slip.md`.
 
 use super::body::Body;
 use super::integrator::System;

@@ -27,13 +27,13 @@ use std::time::Instant;
 /// candidates lack, every recording has one), and its pass, a multiple-shooting fit and a
 /// whole path, bought nothing there (docs/diagnosis.md).
 pub(super) fn camera_second_pass(
-    rec: &Recording,
-    fit_opts: &FitOptions,
+    again: &Again,
+    ms: &Shooting,
     baseline: &WholeFit,
     fits: &mut [(EffectKind, Result<WholeFit, LmError>)],
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
+    let (rec, fit_opts) = (again.rec, again.fit_opts);
     let best_cost = fits
         .iter()
         .filter_map(|(_, r)| r.as_ref().ok())
@@ -50,15 +50,15 @@ pub(super) fn camera_second_pass(
             continue;
         }
         let clock = Instant::now();
-        let base = match fit(rec, &through_camera_of(&first.camera, fit_opts), &|_| {}, cancel) {
+        let base = match fit(rec, &through_camera_of(&first.camera, fit_opts), &|_| {}, ms.cancel) {
             Ok(b) => b,
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => continue,
         };
-        let ms = base.shooting(&rec.frames);
-        let sh = with_effect(&ms, *kind);
+        let through = base.shooting(&rec.frames, ms.cancel);
+        let sh = with_effect(&through, *kind);
         let global = sh.spec.to_internal(&sh.spec.initial_values());
-        match fit_path(&sh, global, &base.segment_states, &no_ceiling, &mut |_, _| {}, cancel) {
+        match fit_path(&sh, global, &base.segment_states, &no_ceiling, &mut |_, _| {}) {
             Ok((mut again, _)) if again.cost < first.cost => {
                 again.seconds = first.seconds + clock.elapsed().as_secs_f64();
                 *r = Ok(again);
@@ -85,7 +85,6 @@ pub(super) fn walk_best_pair_again(
     pairs: &mut [(EffectKind, EffectKind, Result<WholeFit, LmError>)],
     score: &dyn Fn(&WholeFit) -> f64,
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let Some(p) = best_pair(pairs, score) else { return Ok(()) };
     if settled(p.rms_px(), noise_px) {
@@ -93,7 +92,7 @@ pub(super) fn walk_best_pair_again(
     }
     for _ in 0..PAIR_WALKS {
         let before = p.cost;
-        walk_again(again, ms, levels, p, cancel)?;
+        walk_again(again, ms, levels, p)?;
         if !(p.cost < 0.81 * before) || p.rms_px() <= CONSISTENT_RATIO * noise_px {
             break;
         }
@@ -130,7 +129,6 @@ pub(super) fn walk_best_singles_again(
     baseline: &WholeFit,
     fits: &mut [(EffectKind, Result<WholeFit, LmError>)],
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let mut todo: Vec<&mut WholeFit> = fits
         .iter_mut()
@@ -144,11 +142,11 @@ pub(super) fn walk_best_singles_again(
     use rayon::prelude::*;
     todo.into_par_iter()
         .map(|w| {
-            walk_again(again, ms, levels, w, cancel)?;
+            walk_again(again, ms, levels, w)?;
             if w.rms_px() > CONSISTENT_RATIO * noise_px
                 && explained_share(baseline.rms_px(), w.rms_px(), noise_px) < MIN_EXPLAINED
             {
-                scan_from_baseline(ms, baseline, w, cancel)?;
+                scan_from_baseline(ms, baseline, w)?;
             }
             Ok(())
         })
@@ -166,15 +164,12 @@ fn scan_from_baseline(
     ms: &Shooting,
     baseline: &WholeFit,
     w: &mut WholeFit,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     use rayon::prelude::*;
     // The candidate's time counts the whole scan, every start and the polish, kept or not.
     let clock = Instant::now();
-    let fits: Vec<Result<WholeFit, LmError>> = scan_strengths(w.kind)
-        .par_iter()
-        .map(|&s| refit_from(ms, w.kind, baseline, s, cancel))
-        .collect();
+    let fits: Vec<Result<WholeFit, LmError>> =
+        scan_strengths(w.kind).par_iter().map(|&s| refit_from(ms, w.kind, baseline, s)).collect();
     let mut best: Option<WholeFit> = None;
     for f in fits {
         match f {
@@ -191,7 +186,7 @@ fn scan_from_baseline(
     };
     // Once more from where it ended: from so far up a valley's side one fit can run out of
     // iterations on the way down (0.534 px after 20; 0.498 px after 10 more).
-    match polish(ms, &best, cancel) {
+    match polish(ms, &best) {
         Ok(p) if p.cost < best.cost => best = p,
         Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
         _ => {}
@@ -201,12 +196,12 @@ fn scan_from_baseline(
 }
 
 /// Fit `w` over its whole span once more, from its own numbers.
-fn polish(ms: &Shooting, w: &WholeFit, cancel: &AtomicBool) -> Result<WholeFit, LmError> {
+fn polish(ms: &Shooting, w: &WholeFit) -> Result<WholeFit, LmError> {
     let kinds: Vec<EffectKind> = w.also.iter().map(|(k, _)| *k).chain([w.kind]).collect();
     let mut sh =
         with_budget(with_effects(&with_slip_start(ms, w.model.effects.slip_start), &kinds));
     sh.segments = vec![w.span.clone()];
-    fit_whole(&sh, w.internal.clone(), &[w.start], &mut |_, _| {}, cancel)
+    fit_whole(&sh, w.internal.clone(), &[w.start], &mut |_, _| {})
 }
 
 /// The strengths [`scan_from_baseline`] starts from: the ends and the middle (geometric) of
@@ -234,11 +229,10 @@ pub(super) fn walk_again(
     ms: &Shooting,
     levels: &[Level],
     p: &mut WholeFit,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
     let camera_base = if kinds.iter().any(|k| k.is_camera()) {
-        match fit(again.rec, &through_camera_of(&p.camera, again.fit_opts), &|_| {}, cancel) {
+        match fit(again.rec, &through_camera_of(&p.camera, again.fit_opts), &|_| {}, ms.cancel) {
             Ok(b) => Some(b),
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => None,
@@ -247,7 +241,7 @@ pub(super) fn walk_again(
         None
     };
     let (from, states) = match &camera_base {
-        Some(b) => (b.shooting(&again.rec.frames), b.segment_states.clone()),
+        Some(b) => (b.shooting(&again.rec.frames, ms.cancel), b.segment_states.clone()),
         None => {
             let join = levels.first().ok_or(DiagnoseError::Baseline)?;
             let mut from = ms.clone();
@@ -256,7 +250,7 @@ pub(super) fn walk_again(
         }
     };
     let sh = with_effects(&with_slip_start(&from, p.model.effects.slip_start), &kinds);
-    match fit_whole(&sh, p.internal.clone(), &states, &mut |_, _| {}, cancel) {
+    match fit_whole(&sh, p.internal.clone(), &states, &mut |_, _| {}) {
         Ok(mut walked) if walked.cost < p.cost => {
             walked.seconds += p.seconds;
             *p = walked;
@@ -281,9 +275,8 @@ pub(super) fn slip_through_camera(
     ms: &Shooting,
     found: &FoundCamera,
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<Option<WholeFit>, DiagnoseError> {
-    let fits = effects_through_camera(again, ms, found, &[EffectKind::Slip], noise_px, cancel)?;
+    let fits = effects_through_camera(again, ms, found, &[EffectKind::Slip], noise_px)?;
     Ok(fits.into_iter().next())
 }
 
@@ -307,7 +300,6 @@ pub(super) fn effects_through_camera(
     found: &FoundCamera,
     asked: &[EffectKind],
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<Vec<WholeFit>, DiagnoseError> {
     let cameras = &found.numbers;
     // Every effect asked for that the camera does not already hold (the other camera effect
@@ -330,7 +322,7 @@ pub(super) fn effects_through_camera(
     let missing: Vec<EffectKind> =
         kinds.iter().copied().filter(|&k| again.made(found, k).is_none()).collect();
     if !missing.is_empty() {
-        let fits = fit_through_camera(again, ms, found, &missing, &settles, cancel)?;
+        let fits = fit_through_camera(again, ms, found, &missing, &settles)?;
         for (k, fit) in missing.into_iter().zip(fits) {
             again.keep(found, k, fit);
         }
@@ -347,20 +339,20 @@ fn fit_through_camera(
     found: &FoundCamera,
     kinds: &[EffectKind],
     done: &(dyn Fn(&WholeFit) -> bool + Sync),
-    cancel: &AtomicBool,
 ) -> Result<Vec<Option<WholeFit>>, DiagnoseError> {
     let clock = Instant::now();
     let cameras = &found.numbers;
     let failed = || Ok(vec![None; kinds.len()]);
     let base =
-        match fit(again.rec, &through_camera_of(&found.camera, again.fit_opts), &|_| {}, cancel) {
+        match fit(again.rec, &through_camera_of(&found.camera, again.fit_opts), &|_| {}, ms.cancel)
+        {
             Ok(b) => b,
             Err(FitError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => return failed(),
         };
-    let through = base.shooting(&again.rec.frames);
+    let through = base.shooting(&again.rec.frames, ms.cancel);
     let Some((baseline, levels)) =
-        (match fit_baseline(&through, &base.segment_states, &mut |_, _| {}, cancel) {
+        (match fit_baseline(&through, &base.segment_states, &mut |_, _| {}) {
             Ok(b) => Some(b),
             Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
             Err(_) => None,
@@ -372,10 +364,11 @@ fn fit_through_camera(
     let shared_seconds = clock.elapsed().as_secs_f64();
     let one = |&kind: &EffectKind, stop: &AtomicBool| -> Result<WholeFit, LmError> {
         let own = Instant::now();
+        let (through, ms) = (through.stopped_by(stop), ms.stopped_by(stop));
         let alone = if kind == EffectKind::None {
             baseline.clone()
         } else {
-            fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {}, stop)?
+            fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {})?
         };
         // Slip that left the baseline's valley even through this camera (its path stopped
         // beyond the ceiling) slides where the recording rolls, or the other way; the camera's
@@ -395,15 +388,15 @@ fn fit_through_camera(
         global.extend_from_slice(&alone.internal[shared..]);
         order.push(kind);
         let start = alone.model.effects.slip_start;
-        let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &order));
+        let mut sh = with_budget(with_effects(&with_slip_start(&ms, start), &order));
         sh.segments = vec![alone.span.clone()];
-        let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {}, stop)?;
+        let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {})?;
         pair.seconds = shared_seconds + own.elapsed().as_secs_f64();
         Ok(pair)
     };
     let is_done = |r: &Result<WholeFit, LmError>| r.as_ref().is_ok_and(done);
-    let fits = in_order_until(kinds, &one, &is_done, cancel);
-    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+    let fits = in_order_until(kinds, &one, &is_done, ms.cancel);
+    if ms.cancel.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(DiagnoseError::Cancelled);
     }
     Ok(fits.into_iter().map(Result::ok).collect())

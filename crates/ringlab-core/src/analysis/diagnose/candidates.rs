@@ -25,7 +25,6 @@ use crate::physics::slip::painleve_mu_limit;
 use crate::physics::{SlipStart, StateVec};
 use rayon::prelude::*;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 /// Strengths tried first for `kind` (its descriptor's scan: nine log-spaced values from half
 /// the realistic range's low end to twice its high end for most; both signs for the lens, whose
@@ -105,7 +104,6 @@ pub fn fit_candidate(
     baseline: &WholeFit,
     kind: EffectKind,
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
     let join = levels.first().ok_or(LmError::BadStart)?;
@@ -122,7 +120,7 @@ pub fn fit_candidate(
     let stage = |start: SlipStart, on_iteration: &mut dyn FnMut(usize, f64)| {
         let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
         sh.segments = join.segments.clone();
-        first_stage(&sh, join, kind, mu_max, on_iteration, cancel).map(|sol| (sol, sh))
+        first_stage(&sh, join, kind, mu_max, on_iteration).map(|sol| (sol, sh))
     };
     let first = if kind == EffectKind::Slip {
         // The held start on another thread while this one reports the cone start's progress.
@@ -141,7 +139,7 @@ pub fn fit_candidate(
     let (first, mut sh) = first;
     let segments = sh.segments.len();
     let mut fit = if segments > 1 && first.cost > baseline.cost {
-        refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max), cancel)?
+        refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max))?
     } else {
         if segments > 1 {
             sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
@@ -153,7 +151,7 @@ pub fn fit_candidate(
             .step_by(step)
             .map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8]))
             .collect();
-        fit_path(&sh, first.global, &states, &ceiling, on_iteration, cancel)?.0
+        fit_path(&sh, first.global, &states, &ceiling, on_iteration)?.0
     };
     fit.seconds = clock.elapsed().as_secs_f64();
     Ok(fit)
@@ -167,7 +165,6 @@ fn first_stage(
     kind: EffectKind,
     mu_max: f64,
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<lm::LmSolution, LmError> {
     let trials = trial_starts(kind, mu_max);
     let globals: Vec<Vec<f64>> =
@@ -193,8 +190,14 @@ fn first_stage(
     }
     let mut first: Option<lm::LmSolution> = None;
     for g in starts {
-        let sol =
-            lm::solve(sh, g, locals.clone(), &opts, &mut |_, c| on_iteration(segments, c), cancel)?;
+        let sol = lm::solve(
+            sh,
+            g,
+            locals.clone(),
+            &opts,
+            &mut |_, c| on_iteration(segments, c),
+            sh.cancel,
+        )?;
         if first.as_ref().is_none_or(|f| sol.cost < f.cost) {
             first = Some(sol);
         }
@@ -240,10 +243,9 @@ pub fn refit_from(
     kind: EffectKind,
     from: &WholeFit,
     strength: f64,
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let (sh, g) = single_segment(ms, kind, from, strength);
-    fit_whole(&sh, g, &[from.start], &mut |_, _| {}, cancel)
+    fit_whole(&sh, g, &[from.start], &mut |_, _| {})
 }
 
 /// Fit `from` over the whole run as one segment without its effect `drop`: from its drag,
@@ -252,7 +254,6 @@ pub fn refit_without(
     ms: &Shooting,
     from: &WholeFit,
     drop: EffectKind,
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let kinds: Vec<EffectKind> = from.also.iter().map(|(k, _)| *k).chain([from.kind]).collect();
     let own = from.internal.len() - kinds.iter().map(|k| k.free_count()).sum::<usize>();
@@ -269,7 +270,7 @@ pub fn refit_without(
     let start = from.model.effects.slip_start;
     let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &keep));
     sh.segments = vec![from.span.clone()];
-    fit_whole(&sh, global, &[from.start], &mut |_, _| {}, cancel)
+    fit_whole(&sh, global, &[from.start], &mut |_, _| {})
 }
 
 /// Fit `from` over the whole run as one segment with `add` beside its effects, from its drag,
@@ -282,7 +283,6 @@ pub fn refit_with(
     from: &WholeFit,
     add: EffectKind,
     strength: f64,
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let mut kinds = from.kinds();
     kinds.push(add);
@@ -291,7 +291,7 @@ pub fn refit_with(
     let start = from.model.effects.slip_start;
     let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &kinds));
     sh.segments = vec![from.span.clone()];
-    fit_whole(&sh, global, &[from.start], &mut |_, _| {}, cancel)
+    fit_whole(&sh, global, &[from.start], &mut |_, _| {})
 }
 
 /// The misfit (sum of squares) where [`refit_from`] would start: one run.
@@ -305,11 +305,10 @@ pub fn fit_baseline(
     ms: &Shooting,
     states: &[StateVec],
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
     let sh = with_effect(ms, EffectKind::None);
     let g = sh.spec.to_internal(&sh.spec.initial_values());
-    fit_path(&sh, g, states, &no_ceiling, on_iteration, cancel)
+    fit_path(&sh, g, states, &no_ceiling, on_iteration)
 }
 
 /// The candidates along the baseline's path (`baseline`, `levels`), fitted in parallel, and the
@@ -322,7 +321,6 @@ pub fn fit_candidates(
     kinds: &[EffectKind],
     progress: &(dyn Fn(EffectKind, usize, f64) + Sync),
     done: &(dyn Fn(EffectKind) + Sync),
-    cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
     // The slowest first (sliding runs cost most), so that it does not finish alone.
     let mut order: Vec<EffectKind> =
@@ -331,14 +329,9 @@ pub fn fit_candidates(
     let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
         .map(|&k| {
-            let r = fit_candidate(
-                ms,
-                levels,
-                &baseline,
-                k,
-                &mut |segments, cost| progress(k, segments, cost),
-                cancel,
-            );
+            let r = fit_candidate(ms, levels, &baseline, k, &mut |segments, cost| {
+                progress(k, segments, cost)
+            });
             done(k);
             (k, r)
         })
@@ -355,7 +348,7 @@ pub fn fit_candidates(
     if let Some(best) = best
         && best.cost < baseline.cost
     {
-        let again = refit_from(ms, EffectKind::None, best, 0.0, cancel)?;
+        let again = refit_from(ms, EffectKind::None, best, 0.0)?;
         if again.cost < baseline.cost {
             baseline = again;
         }
@@ -378,7 +371,7 @@ pub fn fit_candidates(
             return;
         }
         let before = r.as_ref().map_or(0.0, |w| w.seconds);
-        if let Ok(mut w) = refit_from(ms, *k, &baseline, strength, cancel) {
+        if let Ok(mut w) = refit_from(ms, *k, &baseline, strength) {
             match r {
                 Ok(old) if old.cost <= w.cost => old.seconds += w.seconds,
                 _ => {
@@ -415,15 +408,14 @@ pub fn fit_pair(
     first_fit: &WholeFit,
     second_fit: &WholeFit,
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let clock = std::time::Instant::now();
     let shaped = extras_of(&first_fit.extras, EffectKind::ReynoldsDrag)
         .first()
         .is_some_and(|(share, _)| *share != 0.0);
-    let mut fit = pair_path(ms, levels, first_fit, second_fit, on_iteration, cancel);
+    let mut fit = pair_path(ms, levels, first_fit, second_fit, on_iteration);
     if shaped {
-        let other = pair_path(ms, levels, second_fit, first_fit, &mut |_, _| {}, cancel);
+        let other = pair_path(ms, levels, second_fit, first_fit, &mut |_, _| {});
         fit = match (fit, other) {
             (Err(LmError::Cancelled), _) | (_, Err(LmError::Cancelled)) => Err(LmError::Cancelled),
             (Ok(a), Ok(b)) => Ok(if b.cost < a.cost { b } else { a }),
@@ -444,7 +436,6 @@ fn pair_path(
     lead_fit: &WholeFit,
     other_fit: &WholeFit,
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
     let (first, second) = (lead_fit.kind, other_fit.kind);
     let join = levels.first().ok_or(LmError::BadStart)?;
@@ -471,5 +462,5 @@ fn pair_path(
     let best = (0..globals.len())
         .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
         .ok_or(LmError::BadStart)?;
-    Ok(fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration, cancel)?.0)
+    Ok(fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration)?.0)
 }

@@ -166,14 +166,15 @@ impl Family {
     }
 
     /// The pairs the bench conceals: drags of two laws, a contact torque with a camera effect,
-    /// a physical effect with the pinhole, a real camera (a lens and a tilted pinhole), and a
-    /// sliding ring filmed through a pinhole.
-    pub const PAIRS: [(EffectKind, EffectKind); 5] = [
+    /// a physical effect with the pinhole, a real camera (a lens and a tilted pinhole), a
+    /// sliding ring filmed through a pinhole, and a sloping table filmed through one.
+    pub const PAIRS: [(EffectKind, EffectKind); 6] = [
         (EffectKind::ReynoldsDrag, EffectKind::PivotFriction),
         (EffectKind::RollingFriction, EffectKind::CameraDistortion),
         (EffectKind::TranslationalDrag, EffectKind::CameraPerspective),
         (EffectKind::CameraDistortion, EffectKind::CameraPerspective),
         (EffectKind::Slip, EffectKind::CameraPerspective),
+        (EffectKind::TableSlope, EffectKind::CameraPerspective),
     ];
 
     /// Every family of the bench.

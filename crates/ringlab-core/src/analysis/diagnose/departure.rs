@@ -16,7 +16,6 @@ use crate::analysis::fit::shooting::Shooting;
 use crate::physics::StateVec;
 use crate::physics::effects::EffectKind;
 use std::ops::Range;
-use std::sync::atomic::AtomicBool;
 
 /// Bisection steps after the first failing doubling.
 const BISECTIONS: usize = 3;
@@ -61,7 +60,6 @@ pub fn find(
     states: &[StateVec],
     noise: NoiseLevel,
     width: usize,
-    cancel: &AtomicBool,
 ) -> Result<Departure, LmError> {
     let span = ms.segments.first().map(|s| s.start).unwrap_or(0)
         ..ms.segments.last().map(|s| s.end).unwrap_or(0);
@@ -72,7 +70,7 @@ pub fn find(
     let y0 = *states.first().ok_or(LmError::BadStart)?;
     let prefix = |end: usize| Shooting { segments: vec![span.start..end], ..base.clone() };
     let fit_prefix = |end: usize, g: &[f64], y: StateVec| {
-        fit_whole(&prefix(end), g.to_vec(), &[y], &mut |_, _| {}, cancel)
+        fit_whole(&prefix(end), g.to_vec(), &[y], &mut |_, _| {})
     };
     let mut good = fit_prefix(first.end, &g0, y0)?;
     if !follows(&prefix(first.end), &good, span.start..first.end, noise, width) {

@@ -2,7 +2,7 @@
 //! it, and the fitted parameter; numbers from the diagnosis itself.
 
 use super::result::extras_of;
-use super::result::{Diagnosis, Finding, ModelFit, Signature};
+use super::result::{Candidate, Diagnosis, Finding, ModelFit, Partial, Signature};
 use super::rules::{CONSISTENT_RATIO, MIN_EXCESS_CUT, MIN_EXPLAINED, explained_share};
 use crate::physics::SlipStart;
 use crate::physics::effects::{EffectKind, Words};
@@ -166,68 +166,94 @@ fn runner_up_words(d: &Diagnosis, c: &super::result::Candidate) -> String {
 
 /// The explanation of a finished diagnosis (everything but the explanation filled in).
 pub fn explain(d: &Diagnosis) -> String {
-    let mut out = String::new();
-    let noise = noise_words(d);
     let named = d.finding.named();
-    let runner_up =
-        d.candidates.iter().find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None);
-    let where_ = match &d.mismatch {
-        Some(m) => {
-            format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d))
-        }
-        None => {
-            "The baseline follows the recording within its noise over the whole run.".to_string()
-        }
+    let words = Common {
+        noise: noise_words(d),
+        runner_up: d
+            .candidates
+            .iter()
+            .find(|c| !named.contains(&c.effect) && c.effect != EffectKind::None),
+        where_: match &d.mismatch {
+            Some(m) => {
+                format!("Mismatch: {:.2} s to {:.2} s. {}", m.start_s, m.end_s, departure_words(d))
+            }
+            None => "The baseline follows the recording within its noise over the whole run."
+                .to_string(),
+        },
     };
     match &d.finding {
-        Finding::Nothing => {
-            let _ = write!(
-                out,
-                "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {} {where_}",
-                d.before.rms_px,
-                consistency_words(d)
-            );
-            if let Some(c) = runner_up {
-                out.push_str(&runner_up_words(d, c));
-            }
-            let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
-            return out;
-        }
-        Finding::Unexplained { partial } => {
-            let _ = write!(
-                out,
-                "Something was left out that none of the candidates explains. The paper's model misses the recording by {:.3} px rms over the whole run against a noise of {noise}: an excess of {:.3} px beyond the noise. {} {where_} {}",
-                d.before.rms_px,
-                d.excess_px(d.before.rms_px),
-                consistency_words(d),
-                residual_words(d)
-            );
-            match partial {
-                Some(p) => {
-                    let _ = write!(
-                        out,
-                        " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise and leaves an excess of {:.3} px ({:.1} times the noise), not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer: {p} with another law, or an effect not among the candidates that it imitates in part.",
-                        100.0 * p.share,
-                        d.excess_px(p.rms_px),
-                        d.excess_px(p.rms_px) / d.noise_px,
-                        100.0 * MIN_EXPLAINED
-                    );
-                }
-                None => out.push_str(" No candidate explains any of it."),
-            }
-            if let Some(c) = runner_up {
-                out.push_str(&runner_up_words(d, c));
-            }
-            let _ = write!(
-                out,
-                " The start state and the body's radius and width were fitted with every model; what is missing is none of the effects tried (or not one of them alone). Fitted: {}.{}",
-                fitted(&d.before),
-                body_words(d)
-            );
-            return out;
-        }
-        Finding::Named(_) => {}
+        Finding::Nothing => nothing_words(d, &words),
+        Finding::Unexplained { partial } => unexplained_words(d, partial.as_ref(), &words),
+        Finding::Named(named) => named_words(d, named, &words),
     }
+}
+
+/// What every finding's words use: the noise in words, the best candidate not named, and
+/// where the baseline departs.
+struct Common<'a> {
+    noise: String,
+    runner_up: Option<&'a Candidate>,
+    where_: String,
+}
+
+/// The words for `Finding::Nothing`.
+fn nothing_words(d: &Diagnosis, words: &Common) -> String {
+    let Common { noise, runner_up, where_ } = words;
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "Nothing was left out that this recording can show. The paper's model, fitted over the whole run from the first inner turning point, follows the marks to {:.3} px rms against a noise of {noise}. {} {where_}",
+        d.before.rms_px,
+        consistency_words(d)
+    );
+    if let Some(c) = runner_up {
+        out.push_str(&runner_up_words(d, c));
+    }
+    let _ = write!(out, " Fitted: {}.{}", fitted(&d.before), body_words(d));
+    out
+}
+
+/// The words for `Finding::Unexplained`, with the best partial candidate where there is one.
+fn unexplained_words(d: &Diagnosis, partial: Option<&Partial>, words: &Common) -> String {
+    let Common { noise, runner_up, where_ } = words;
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "Something was left out that none of the candidates explains. The paper's model misses the recording by {:.3} px rms over the whole run against a noise of {noise}: an excess of {:.3} px beyond the noise. {} {where_} {}",
+        d.before.rms_px,
+        d.excess_px(d.before.rms_px),
+        consistency_words(d),
+        residual_words(d)
+    );
+    match partial {
+        Some(p) => {
+            let _ = write!(
+                out,
+                " The best partial candidate is {p}: it explains {:.0}% of the squared misfit beyond the noise and leaves an excess of {:.3} px ({:.1} times the noise), not enough to name it (at least {:.0}%, and the excess cut {MIN_EXCESS_CUT} times or within {CONSISTENT_RATIO} times the noise), so it is at most part of the answer: {p} with another law, or an effect not among the candidates that it imitates in part.",
+                100.0 * p.share,
+                d.excess_px(p.rms_px),
+                d.excess_px(p.rms_px) / d.noise_px,
+                100.0 * MIN_EXPLAINED
+            );
+        }
+        None => out.push_str(" No candidate explains any of it."),
+    }
+    if let Some(c) = runner_up {
+        out.push_str(&runner_up_words(d, c));
+    }
+    let _ = write!(
+        out,
+        " The start state and the body's radius and width were fitted with every model; what is missing is none of the effects tried (or not one of them alone). Fitted: {}.{}",
+        fitted(&d.before),
+        body_words(d)
+    );
+    out
+}
+
+/// The words for `Finding::Named`: the effects, their numbers, what they explain.
+fn named_words(d: &Diagnosis, named: &[EffectKind], words: &Common) -> String {
+    let Common { noise, runner_up, where_ } = words;
+    let mut out = String::new();
     let kind = d.finding.first();
     let excess_before = d.excess_px(d.before.rms_px);
     let excess_after = d.excess_px(d.after.rms_px);

@@ -8,7 +8,7 @@ use super::noise_correlation::{self, NoiseCorrelation};
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
 use super::progress::Reporter;
 use super::residual::{
-    MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, departures, frame_rms, frame_sums, windows,
+    MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, Window, departures, frame_rms, frame_sums, windows,
 };
 use super::result::{
     Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
@@ -20,7 +20,7 @@ use super::select::{Selection, forward_selection, through_seen_kinds};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
-use crate::analysis::fit::shooting::Shooting;
+use crate::analysis::fit::shooting::{PredictedMarks, Shooting};
 use crate::analysis::fit::{FitError, FitOptions, FitProgress, FitResult, fit};
 use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
@@ -50,33 +50,23 @@ pub fn diagnose(
     let mut laps = Laps::new();
     let progress = &Reporter::new(progress);
     let opts = &suspects(rec, opts)?;
-    // The tracker's glitches out of every fit; the noise from the tracks alone.
-    let tracks = check_tracks(rec);
+    let run = Run { opts, progress, cancel };
     let fit_opts = FitOptions { leave_out_glitches: false, ..opts.fit.clone() };
-    let base = baseline_fit(&tracks.recording, &fit_opts, progress, cancel)?;
-    // The glitches the tracks alone let through, found against that fit, and the fit again
-    // without them.
-    let more = glitches_against(&base, &tracks);
-    let (tracks, base) = if more.is_empty() {
-        (tracks, base)
-    } else {
-        let tracks = with_more_glitches(&tracks, &more);
-        let base = baseline_fit(&tracks.recording, &fit_opts, progress, cancel)?;
-        (tracks, base)
-    };
+    let (tracks, base) = baseline_without_glitches(&run, rec, &fit_opts)?;
     let rec = &tracks.recording;
     laps.lap("multiple-shooting fit");
-    let ms = base.shooting(&rec.frames);
+    // Every fit from here on is made on this problem or one made from it, and stops by its
+    // flag.
+    let ms = base.shooting(&rec.frames, cancel);
     let noise = Noise::of(&base, rec);
     progress.seeing_camera();
-    let seen = seen_camera(&base, &rec.frames, &opts.candidates, opts.evidence, cancel)?;
+    let seen = seen_camera(&base, &ms, &opts.candidates, opts.evidence)?;
     laps.lap("the camera the segments see");
-    let (baseline, levels) = baseline_path(&ms, &base, progress, cancel)?;
+    let (baseline, levels) = baseline_path(&ms, &base, progress)?;
     // A tracker's noise correlated in time, read from the baseline's residual.
     let noise = noise.with_correlation(&baseline, &ms, tracks.noise.as_ref());
     laps.lap("baseline over the whole run");
     let again = Again::new(rec, &fit_opts, seen.as_ref());
-    let run = Run { opts, progress, cancel };
     let (departure, baseline, fits) =
         candidates_and_departure(&run, &again, &ms, &base, baseline, &levels, &noise)?;
     laps.lap("candidates and departure");
@@ -90,7 +80,6 @@ pub fn diagnose(
             dependence: noise.dependence(),
             evidence: opts.evidence,
             progress,
-            cancel,
         };
         forward_selection(&sel, ranked)
     };
@@ -263,14 +252,33 @@ fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, 
 
 /// Stage 1: the paper's model fitted by multiple shooting (`analysis::fit`).
 fn baseline_fit(
+    run: &Run,
     rec: &Recording,
     fit_opts: &FitOptions,
-    progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<FitResult, DiagnoseError> {
-    fit(rec, fit_opts, &|p: &FitProgress| progress.baseline_fit(p), cancel).map_err(|e| {
+    let progress = run.progress;
+    fit(rec, fit_opts, &|p: &FitProgress| progress.baseline_fit(p), run.cancel).map_err(|e| {
         if e == FitError::Cancelled { DiagnoseError::Cancelled } else { DiagnoseError::Fit(e) }
     })
+}
+
+/// Stage 1 without the tracker's glitches: those the tracks show left out of every fit (the
+/// noise is measured from the tracks alone), then those the tracks alone let through, found
+/// against that fit, and the fit made again without them.
+fn baseline_without_glitches(
+    run: &Run,
+    rec: &Recording,
+    fit_opts: &FitOptions,
+) -> Result<(CheckedTracks, FitResult), DiagnoseError> {
+    let tracks = check_tracks(rec);
+    let base = baseline_fit(run, &tracks.recording, fit_opts)?;
+    let more = glitches_against(&base, &tracks);
+    if more.is_empty() {
+        return Ok((tracks, base));
+    }
+    let tracks = with_more_glitches(&tracks, &more);
+    let base = baseline_fit(run, &tracks.recording, fit_opts)?;
+    Ok((tracks, base))
 }
 
 /// Positions that the multiple-shooting fit `base` predicts far beyond the noise and beyond
@@ -279,7 +287,7 @@ fn baseline_fit(
 fn glitches_against(base: &FitResult, tracks: &CheckedTracks) -> Vec<Glitch> {
     let Some(noise) = tracks.noise else { return Vec::new() };
     let frames = &tracks.recording.frames;
-    let ms = base.shooting(frames);
+    let ms = base.shooting(frames, &crate::analysis::fit::shooting::NEVER_CANCELLED);
     let mut predicted: Vec<Option<[[f64; 2]; MARKS]>> = vec![None; frames.len()];
     for (s, (span, y0)) in ms.segments.iter().zip(&base.segment_states).enumerate() {
         let Some(marks) = ms.predict(&base.model, &base.camera, s, y0) else { continue };
@@ -295,16 +303,16 @@ fn baseline_path(
     ms: &Shooting,
     base: &FitResult,
     progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), DiagnoseError> {
     let residuals = base.residual_count.max(1) as f64;
     let mut on_baseline = |segments: usize, cost: f64| {
         progress.baseline_path(base.segments.len(), segments, (cost / residuals).sqrt())
     };
-    fit_baseline(ms, &base.segment_states, &mut on_baseline, cancel).map_err(lm_error)
+    fit_baseline(ms, &base.segment_states, &mut on_baseline).map_err(lm_error)
 }
 
-/// One diagnosis's options (its suspects), progress bar and cancel flag.
+/// One diagnosis's options (its suspects), progress bar and cancel flag (which its fits'
+/// problems carry on from the baseline's fit, [`Shooting::cancel`]).
 #[derive(Clone, Copy)]
 struct Run<'a> {
     opts: &'a DiagnoseOptions,
@@ -339,7 +347,7 @@ fn candidates_and_departure(
     levels: &[Level],
     noise: &Noise,
 ) -> Result<(Departure, WholeFit, Fits), DiagnoseError> {
-    let Run { opts, progress, cancel } = *run;
+    let Run { opts, progress, .. } = *run;
     let (noise_px, width) = (noise.px, noise.window_frames);
     let follows_whole =
         departure::follows(ms, &baseline, baseline.span.clone(), noise.level(), width);
@@ -348,10 +356,10 @@ fn candidates_and_departure(
             if follows_whole {
                 Ok(Departure::none(&baseline))
             } else {
-                departure::find(ms, &base.segment_states, noise.level(), width, cancel)
+                departure::find(ms, &base.segment_states, noise.level(), width)
             }
         },
-        || candidates_stage(ms, baseline.clone(), levels, opts, progress, cancel),
+        || candidates_stage(ms, baseline.clone(), levels, opts, progress),
     );
     let departure = departure.map_err(lm_error)?;
     let (baseline, mut fits) = candidates?;
@@ -360,12 +368,12 @@ fn candidates_and_departure(
     // these fits were a third of a single effect's diagnosis.
     if !any_settled(&fits, noise_px) {
         progress.fitting_again("the best candidates");
-        camera_second_pass(again.rec, again.fit_opts, &baseline, &mut fits, noise_px, cancel)?;
+        camera_second_pass(again, ms, &baseline, &mut fits, noise_px)?;
     }
     if !any_settled(&fits, noise_px)
-        && !settled_through_seen(again, ms, &baseline, &fits, noise, progress, cancel)?
+        && !settled_through_seen(again, ms, &baseline, &fits, noise, progress)?
     {
-        walk_best_singles_again(again, ms, levels, &baseline, &mut fits, noise_px, cancel)?;
+        walk_best_singles_again(again, ms, levels, &baseline, &mut fits, noise_px)?;
     }
     Ok((departure, baseline, fits))
 }
@@ -387,14 +395,13 @@ fn settled_through_seen(
     fits: &Fits,
     noise: &Noise,
     progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<bool, DiagnoseError> {
     let Some(seen) = again.seen else { return Ok(false) };
     progress.fitting_again("every effect through the camera the segments see");
     let ranked = rank(baseline, fits, noise.dependence());
     let kinds: Vec<EffectKind> =
         [EffectKind::None].into_iter().chain(through_seen_kinds(&ranked)).collect();
-    let through = effects_through_camera(again, ms, seen, &kinds, noise.px, cancel)?;
+    let through = effects_through_camera(again, ms, seen, &kinds, noise.px)?;
     Ok(through.iter().any(|w| settled(w.rms_px(), noise.px)))
 }
 
@@ -466,111 +473,38 @@ fn describe(
     let rec = &tracks.recording;
     let Decided { baseline, chosen, departure, noise, evidence } = decided;
     let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
-    let (noise_px, width, noise_from_marks) = (noise.px, noise.window_frames, noise.from_marks);
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, noise.dependence());
-    let pred_before = baseline.marks(ms).ok_or(DiagnoseError::Baseline)?;
-    let pred_after = chosen.marks(ms).ok_or(DiagnoseError::Baseline)?;
-    // The stretch's fit run on over the whole span (its own span is the stretch alone).
-    let followed_on = WholeFit { span: baseline.span.clone(), ..departure.fit.clone() };
-    let pred_followed = followed_on.marks(ms).ok_or(DiagnoseError::Baseline)?;
+    let clock = Clock { first_frame: rec.first_frame, fps: rec.header.fps, dt: base.dt };
+    let misfits = Misfits::of(rec, ms, baseline, chosen, departure, noise)?;
     let span = baseline.span.clone();
-    let time_s = |frame: f64| (rec.first_frame as f64 + frame) / rec.header.fps;
-    let to_s = |t_model: f64| time_s(t_model / base.dt);
-
-    let sums_before = frame_sums(&rec.frames, span.clone(), &pred_before);
-    let sums_after = frame_sums(&rec.frames, span.clone(), &pred_after);
-    let sums_followed = frame_sums(&rec.frames, span.clone(), &pred_followed);
-    let win_before = windows(&sums_before, noise.level(), width);
-    let win_after = windows(&sums_after, noise.level(), width);
-    let win_followed = windows(&sums_followed, noise.level(), width);
     let (mismatch, found) = mismatch_windows(
         departure,
         &span,
-        (&sums_followed, &win_followed),
-        (&sums_before, &win_before),
-        noise_px,
-        &time_s,
+        (&misfits.sums_followed, &misfits.win_followed),
+        (&misfits.sums_before, &misfits.win_before),
+        noise.px,
+        &|frame| clock.time_s(frame),
     );
-
-    let t_stop = 2.0 * rec.frames.len() as f64 * base.dt;
-    let (end_before, _) = run_end(baseline, ms, t_stop);
-    let (end_after, slides) = run_end(chosen, ms, t_stop);
-    let centre = baseline.camera.centre_px;
-    let mut signature = Signature::from_measured(measure(
-        &rec.frames[span.clone()],
-        &sums_before,
-        &pred_before,
-        &pred_after,
-        centre,
-        noise_px,
-    ));
-    signature.end_data_s = (span.end < rec.frames.len()).then(|| time_s(span.end as f64));
-    signature.end_before_s = end_before.map(to_s);
-    signature.end_after_s = end_after.map(to_s);
-    signature.slides_s = slides.into_iter().map(|(a, b)| (to_s(a), to_s(b))).collect();
-    signature.departure_s = departure.departs.then(|| time_s(departure.followed.end as f64));
-    signature.followed_share = departure.followed.len() as f64 / span.len().max(1) as f64;
-
-    let t_s: Vec<f64> = span.clone().map(|i| time_s(i as f64)).collect();
-    let residuals = ResidualSeries {
-        t_s: t_s.clone(),
-        before_px: frame_rms(&sums_before),
-        after_px: frame_rms(&sums_after),
-        window_s: win_before
-            .iter()
-            .map(|w| {
-                (
-                    time_s((span.start + w.frames.start) as f64),
-                    time_s((span.start + w.frames.end) as f64),
-                )
-            })
-            .collect(),
-        window_before_px: win_before.iter().map(|w| w.rms_px).collect(),
-        window_after_px: win_after.iter().map(|w| w.rms_px).collect(),
-        window_threshold_px: win_before.iter().map(|w| w.threshold_px).collect(),
-        followed_px: frame_rms(&sums_followed),
-        window_followed_px: win_followed.iter().map(|w| w.rms_px).collect(),
-    };
+    let signature = signature(rec, ms, (baseline, chosen), departure, &misfits, noise.px, &clock);
+    let residuals = misfits.series(&span, &clock);
     let trace = Trace {
-        t_s,
+        t_s: residuals.t_s.clone(),
         data_px: rec.frames[span.clone()].iter().map(centroid).collect(),
-        before_px: pred_before.iter().map(predicted_centroid).collect(),
-        after_px: pred_after.iter().map(predicted_centroid).collect(),
+        before_px: misfits.pred_before.iter().map(predicted_centroid).collect(),
+        after_px: misfits.pred_after.iter().map(predicted_centroid).collect(),
         image_px: image_size(base, rec),
     };
-    let model_fit = |w: &WholeFit, end_s: Option<f64>| ModelFit {
-        effect: w.kind,
-        rms_px: w.rms_px(),
-        cost: w.cost,
-        residual_count: w.residual_count,
-        parameter_count: w.parameter_count,
-        score: score(w),
-        c: w.c,
-        c_sigma: w.c_sigma,
-        strength: w.strength,
-        extras: w.extras.clone(),
-        tilt_deg: extras_of(&w.extras, EffectKind::CameraPerspective).first().copied(),
-        rim_share: extras_of(&w.extras, EffectKind::ReynoldsDrag).first().copied(),
-        also: w.also.clone(),
-        body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
-        start: Initial::from_state(&w.start),
-        start_s: time_s(w.span.start as f64),
-        model: w.model.clone(),
-        camera: w.camera,
-        units: base.units,
-        end_s,
-    };
-    let d = Diagnosis {
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, noise.dependence());
+    Ok(Diagnosis {
         finding,
         mismatch,
         windows: found,
-        noise_px,
-        noise_from_marks,
+        noise_px: noise.px,
+        noise_from_marks: noise.from_marks,
         noise_correlation: noise.correlation.clone(),
         glitches: tracks.glitches.clone(),
-        before: model_fit(baseline, signature.end_before_s),
-        after: model_fit(chosen, signature.end_after_s),
+        before: model_fit(baseline, score(baseline), base, &clock, signature.end_before_s),
+        after: model_fit(chosen, score(chosen), base, &clock, signature.end_after_s),
         candidates,
         pairs,
         evidence,
@@ -587,8 +521,154 @@ fn describe(
         fps: rec.header.fps,
         stage_seconds,
         compute_seconds: 0.0,
-    };
-    Ok(d)
+    })
+}
+
+/// The recording's clock: a frame (or model time) in seconds from the film's start.
+struct Clock {
+    first_frame: u64,
+    fps: f64,
+    dt: f64,
+}
+
+impl Clock {
+    fn time_s(&self, frame: f64) -> f64 {
+        (self.first_frame as f64 + frame) / self.fps
+    }
+
+    fn model_s(&self, t_model: f64) -> f64 {
+        self.time_s(t_model / self.dt)
+    }
+}
+
+/// The misfit of the baseline (before), of the model chosen (after) and of the stretch's fit
+/// run on over the whole span (followed): each frame's sums and the residual windows.
+struct Misfits {
+    pred_before: PredictedMarks,
+    pred_after: PredictedMarks,
+    sums_before: Vec<(f64, usize)>,
+    sums_after: Vec<(f64, usize)>,
+    sums_followed: Vec<(f64, usize)>,
+    win_before: Vec<Window>,
+    win_after: Vec<Window>,
+    win_followed: Vec<Window>,
+}
+
+impl Misfits {
+    fn of(
+        rec: &Recording,
+        ms: &Shooting,
+        baseline: &WholeFit,
+        chosen: &WholeFit,
+        departure: &Departure,
+        noise: &Noise,
+    ) -> Result<Misfits, DiagnoseError> {
+        let pred_before = baseline.marks(ms).ok_or(DiagnoseError::Baseline)?;
+        let pred_after = chosen.marks(ms).ok_or(DiagnoseError::Baseline)?;
+        // The stretch's fit run on over the whole span (its own span is the stretch alone).
+        let followed_on = WholeFit { span: baseline.span.clone(), ..departure.fit.clone() };
+        let pred_followed = followed_on.marks(ms).ok_or(DiagnoseError::Baseline)?;
+        let span = baseline.span.clone();
+        let sums = |pred: &PredictedMarks| frame_sums(&rec.frames, span.clone(), pred);
+        let (sums_before, sums_after) = (sums(&pred_before), sums(&pred_after));
+        let sums_followed = sums(&pred_followed);
+        let wins = |sums: &[(f64, usize)]| windows(sums, noise.level(), noise.window_frames);
+        Ok(Misfits {
+            win_before: wins(&sums_before),
+            win_after: wins(&sums_after),
+            win_followed: wins(&sums_followed),
+            pred_before,
+            pred_after,
+            sums_before,
+            sums_after,
+            sums_followed,
+        })
+    }
+
+    /// The residuals as the report and the window plot them, frame by frame and by window.
+    fn series(&self, span: &Range<usize>, clock: &Clock) -> ResidualSeries {
+        let at = |frame: usize| clock.time_s((span.start + frame) as f64);
+        ResidualSeries {
+            t_s: span.clone().map(|i| clock.time_s(i as f64)).collect(),
+            before_px: frame_rms(&self.sums_before),
+            after_px: frame_rms(&self.sums_after),
+            window_s: self
+                .win_before
+                .iter()
+                .map(|w| (at(w.frames.start), at(w.frames.end)))
+                .collect(),
+            window_before_px: self.win_before.iter().map(|w| w.rms_px).collect(),
+            window_after_px: self.win_after.iter().map(|w| w.rms_px).collect(),
+            window_threshold_px: self.win_before.iter().map(|w| w.threshold_px).collect(),
+            followed_px: frame_rms(&self.sums_followed),
+            window_followed_px: self.win_followed.iter().map(|w| w.rms_px).collect(),
+        }
+    }
+}
+
+/// The residual's signature ([`measure`]) with the times of the runs' ends, slides and the
+/// departure.
+fn signature(
+    rec: &Recording,
+    ms: &Shooting,
+    (baseline, chosen): (&WholeFit, &WholeFit),
+    departure: &Departure,
+    misfits: &Misfits,
+    noise_px: f64,
+    clock: &Clock,
+) -> Signature {
+    let span = baseline.span.clone();
+    let t_stop = 2.0 * rec.frames.len() as f64 * clock.dt;
+    let (end_before, _) = run_end(baseline, ms, t_stop);
+    let (end_after, slides) = run_end(chosen, ms, t_stop);
+    let mut signature = Signature::from_measured(measure(
+        &rec.frames[span.clone()],
+        &misfits.sums_before,
+        &misfits.pred_before,
+        &misfits.pred_after,
+        baseline.camera.centre_px,
+        noise_px,
+    ));
+    signature.end_data_s = (span.end < rec.frames.len()).then(|| clock.time_s(span.end as f64));
+    signature.end_before_s = end_before.map(|t| clock.model_s(t));
+    signature.end_after_s = end_after.map(|t| clock.model_s(t));
+    signature.slides_s =
+        slides.into_iter().map(|(a, b)| (clock.model_s(a), clock.model_s(b))).collect();
+    signature.departure_s = departure.departs.then(|| clock.time_s(departure.followed.end as f64));
+    signature.followed_share = departure.followed.len() as f64 / span.len().max(1) as f64;
+    signature
+}
+
+/// A fitted model as the diagnosis reports it (`score`: its BIC; `end_s`: where its run ends).
+fn model_fit(
+    w: &WholeFit,
+    score: f64,
+    base: &FitResult,
+    clock: &Clock,
+    end_s: Option<f64>,
+) -> ModelFit {
+    ModelFit {
+        effect: w.kind,
+        rms_px: w.rms_px(),
+        cost: w.cost,
+        residual_count: w.residual_count,
+        parameter_count: w.parameter_count,
+        score,
+        c: w.c,
+        c_sigma: w.c_sigma,
+        strength: w.strength,
+        extras: w.extras.clone(),
+        tilt_deg: extras_of(&w.extras, EffectKind::CameraPerspective).first().copied(),
+        rim_share: extras_of(&w.extras, EffectKind::ReynoldsDrag).first().copied(),
+        also: w.also.clone(),
+        body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
+        start: Initial::from_state(&w.start),
+        start_s: clock.time_s(w.span.start as f64),
+        model: w.model.clone(),
+        camera: w.camera,
+        units: base.units,
+        end_s,
+    }
 }
 
 /// The mismatch (from the departure to the last departing window of the baseline fitted up to
@@ -597,8 +677,8 @@ fn describe(
 fn mismatch_windows(
     departure: &Departure,
     span: &Range<usize>,
-    (sums, wins): (&[(f64, usize)], &[super::residual::Window]),
-    (before, wins_before): (&[(f64, usize)], &[super::residual::Window]),
+    (sums, wins): (&[(f64, usize)], &[Window]),
+    (before, wins_before): (&[(f64, usize)], &[Window]),
     noise_px: f64,
     time_s: &dyn Fn(f64) -> f64,
 ) -> (Option<MismatchWindow>, Vec<MismatchWindow>) {
@@ -655,7 +735,6 @@ fn candidates_stage(
     levels: &[super::whole::Level],
     opts: &DiagnoseOptions,
     progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
     let kinds: Vec<EffectKind> =
         opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
@@ -664,7 +743,7 @@ fn candidates_stage(
         progress.candidate_level(k, segments, (cost / residuals).sqrt(), kinds.len())
     };
     let on_done = |k: EffectKind| progress.candidate_done(k, kinds.len());
-    fit_candidates(ms, baseline, levels, &kinds, &on_level, &on_done, cancel).map_err(lm_error)
+    fit_candidates(ms, baseline, levels, &kinds, &on_level, &on_done).map_err(lm_error)
 }
 
 /// Point A of a frame: the centroid of its marks when all four are tracked.

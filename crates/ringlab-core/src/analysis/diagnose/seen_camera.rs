@@ -14,10 +14,10 @@ use super::options::DiagnoseError;
 use super::rules::bic_per_parameter;
 use super::whole::{WholeFit, search_range};
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
+use crate::analysis::fit::shooting::Shooting;
 use crate::analysis::fit::{FitResult, Free};
 use crate::physics::effects::EffectKind;
-use crate::recording::{Camera, FrameMarks};
-use std::sync::atomic::AtomicBool;
+use crate::recording::Camera;
 
 /// A camera found by a fit: the camera effects it holds with their internal numbers (in the
 /// order a fit through it frees them), and the camera they make.
@@ -46,7 +46,7 @@ impl FoundCamera {
     }
 }
 
-/// The camera the baseline's segments (`base`) see, with `offered` camera effects free: `None`
+/// The camera the baseline's segments (`base`, its problem `ms`) see, with `offered` camera effects free: `None`
 /// where no camera effect is offered, the fit fails, or none of them is worth its numbers.
 /// An effect is kept where its strength (the inverse distance, the lens's `k1`) lowers the
 /// segments' BIC by `evidence`, judged by its squared z-score (the change in cost a linear fit
@@ -54,10 +54,9 @@ impl FoundCamera {
 /// of them free.
 pub(super) fn seen_camera(
     base: &FitResult,
-    frames: &[FrameMarks],
+    ms: &Shooting,
     offered: &[EffectKind],
     evidence: f64,
-    cancel: &AtomicBool,
 ) -> Result<Option<FoundCamera>, DiagnoseError> {
     // The camera effects, the last listed first (the pinhole's numbers lead the fit's).
     let kinds: Vec<EffectKind> = EffectKind::ALL
@@ -68,7 +67,7 @@ pub(super) fn seen_camera(
     if kinds.is_empty() {
         return Ok(None);
     }
-    let mut sh = base.shooting(frames);
+    let mut sh = ms.clone();
     let mu_max = crate::physics::slip::painleve_mu_limit(&sh.spec.base);
     for &k in &kinds {
         sh.spec.free.extend(Free::of_effect(k));
@@ -77,7 +76,7 @@ pub(super) fn seen_camera(
     let global = sh.spec.to_internal(&sh.spec.initial_values());
     let locals: Vec<Vec<f64>> = base.segment_states.iter().map(|y| y.to_vec()).collect();
     let opts = LmOptions { max_iterations: 30, rel_tol: 1e-6, ..LmOptions::default() };
-    let sol = match lm::solve(&sh, global, locals, &opts, &mut |_, _| {}, cancel) {
+    let sol = match lm::solve(&sh, global, locals, &opts, &mut |_, _| {}, sh.cancel) {
         Ok(s) => s,
         Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
         Err(LmError::BadStart) => return Ok(None),
@@ -120,6 +119,7 @@ mod tests {
     use crate::analysis::diagnose::DiagnoseOptions;
     use crate::analysis::diagnose::concealed::{Family, family_recording};
     use crate::analysis::fit::fit;
+    use std::sync::atomic::AtomicBool;
 
     /// The camera the segments of the baseline's multiple-shooting fit see on the bench's
     /// recording `seed` of `family`.
@@ -129,8 +129,8 @@ mod tests {
         let opts = DiagnoseOptions::default();
         let cancel = AtomicBool::new(false);
         let base = fit(&rec, &opts.fit, &|_| {}, &cancel).expect("the baseline fits");
-        seen_camera(&base, &rec.frames, &opts.candidates, opts.evidence, &cancel)
-            .expect("not cancelled")
+        let ms = base.shooting(&rec.frames, &cancel);
+        seen_camera(&base, &ms, &opts.candidates, opts.evidence).expect("not cancelled")
     }
 
     fn distance_mm(found: &FoundCamera) -> f64 {

@@ -18,7 +18,7 @@ use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 
 /// What the forward selection works with: the problem, the baseline's path and solution, the
-/// noise and the evidence asked, the progress bar and the cancel flag.
+/// noise and the evidence asked, the progress bar (the cancel flag travels with `ms`).
 pub(super) struct Selection<'a> {
     pub(super) again: &'a Again<'a>,
     pub(super) ms: &'a Shooting<'a>,
@@ -29,7 +29,6 @@ pub(super) struct Selection<'a> {
     pub(super) dependence: f64,
     pub(super) evidence: f64,
     pub(super) progress: &'a Reporter<'a>,
-    pub(super) cancel: &'a AtomicBool,
 }
 
 /// The pairs (and larger models) fitted so far, and those walked again.
@@ -103,14 +102,7 @@ impl Selection<'_> {
         self.progress.pair_again("every effect through the camera the segments see", false);
         let kinds: Vec<EffectKind> =
             [camera_free(chosen.kind)].into_iter().chain(through_seen_kinds(ranked)).collect();
-        pairs.extend(effects_through_camera(
-            self.again,
-            self.ms,
-            seen,
-            &kinds,
-            self.noise_px,
-            self.cancel,
-        )?);
+        pairs.extend(effects_through_camera(self.again, self.ms, seen, &kinds, self.noise_px)?);
         Ok(())
     }
 
@@ -129,14 +121,13 @@ impl Selection<'_> {
                 ranked,
                 self.noise_px,
                 self.progress,
-                self.cancel,
             )?;
             pairs.fits.extend(more);
             pairs.walked = walked;
         }
         if !settles(&pairs.fits, self.noise_px) {
             self.progress.pair_again("each other effect added to the best one's solution", false);
-            added_to_best(self.ms, ranked, &mut pairs.fits, self.noise_px, self.cancel)?;
+            added_to_best(self.ms, ranked, &mut pairs.fits, self.noise_px)?;
         }
         Ok(())
     }
@@ -156,14 +147,7 @@ impl Selection<'_> {
         if seen.numbers.iter().any(|(k, _)| !held.contains(k)) {
             self.progress.pair_again("the chosen model through the camera the segments see", false);
             let kinds = [camera_free(chosen.kind)];
-            pairs.extend(effects_through_camera(
-                self.again,
-                self.ms,
-                seen,
-                &kinds,
-                self.noise_px,
-                self.cancel,
-            )?);
+            pairs.extend(effects_through_camera(self.again, self.ms, seen, &kinds, self.noise_px)?);
         }
         Ok(())
     }
@@ -190,8 +174,7 @@ impl Selection<'_> {
             return Ok(());
         };
         self.progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
-        if let Some(p) =
-            slip_through_camera(self.again, self.ms, &self.found(lead), self.noise_px, self.cancel)?
+        if let Some(p) = slip_through_camera(self.again, self.ms, &self.found(lead), self.noise_px)?
         {
             pairs.fits.push((lead.kind, EffectKind::Slip, Ok(p)));
         }
@@ -228,7 +211,6 @@ impl Selection<'_> {
                 &camera,
                 &kinds,
                 self.noise_px,
-                self.cancel,
             )?);
         }
         Ok(())
@@ -249,7 +231,6 @@ impl Selection<'_> {
                 &mut pairs.fits,
                 &score,
                 self.noise_px,
-                self.cancel,
             )?;
         }
         slip_pair_through_its_camera(
@@ -259,7 +240,6 @@ impl Selection<'_> {
             &score,
             self.noise_px,
             self.progress,
-            self.cancel,
         )
     }
 
@@ -277,7 +257,7 @@ impl Selection<'_> {
     fn trimmed(&self, pairs: &Pairs) -> Result<Option<WholeFit>, DiagnoseError> {
         match self.best_of(pairs) {
             Some(p) if p.also.len() > 1 => {
-                let fewer = drop_each(self.ms, p, self.cancel)?;
+                let fewer = drop_each(self.ms, p)?;
                 Ok(fewer
                     .into_iter()
                     .min_by(|a, b| self.score(a).total_cmp(&self.score(b)))
@@ -307,7 +287,7 @@ impl Selection<'_> {
                 && explains(chosen.rms_px(), p.rms_px(), noise_px)
         });
         let alone = match best_pair.filter(|_| pair_wins) {
-            Some(p) => drop_each(self.ms, p, self.cancel)?,
+            Some(p) => drop_each(self.ms, p)?,
             None => Vec::new(),
         };
         let best_alone = alone.iter().min_by(|a, b| self.score(a).total_cmp(&self.score(b)));
@@ -427,7 +407,6 @@ fn slip_pair_through_its_camera(
     score: &dyn Fn(&WholeFit) -> f64,
     noise_px: f64,
     progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let Some(p) = best_pair(pairs, score) else { return Ok(()) };
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
@@ -436,7 +415,7 @@ fn slip_pair_through_its_camera(
         return Ok(());
     }
     progress.pair_again("slip fitted again through the best pair's camera", true);
-    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), noise_px, cancel)?
+    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), noise_px)?
         && again.cost < p.cost
     {
         let seconds = p.seconds + again.seconds;
@@ -542,15 +521,11 @@ pub(super) fn decide<'a>(
 }
 
 /// Model `p` fitted again without each of its effects in turn ([`refit_without`]).
-fn drop_each(
-    ms: &Shooting,
-    p: &WholeFit,
-    cancel: &AtomicBool,
-) -> Result<Vec<WholeFit>, DiagnoseError> {
+fn drop_each(ms: &Shooting, p: &WholeFit) -> Result<Vec<WholeFit>, DiagnoseError> {
     let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
     let fits: Vec<Result<WholeFit, LmError>> = {
         use rayon::prelude::*;
-        kinds.par_iter().map(|&k| refit_without(ms, p, k, cancel)).collect()
+        kinds.par_iter().map(|&k| refit_without(ms, p, k)).collect()
     };
     let mut out = Vec::new();
     for f in fits {
@@ -595,7 +570,6 @@ fn pairs_stage(
     ranked: &[(Candidate, Option<&WholeFit>)],
     noise_px: f64,
     progress: &Reporter,
-    cancel: &AtomicBool,
 ) -> Result<(Vec<PairFit>, Vec<Vec<EffectKind>>), DiagnoseError> {
     let fitted: Vec<(&Candidate, &WholeFit)> = ranked
         .iter()
@@ -603,12 +577,63 @@ fn pairs_stage(
         .filter(|(c, _)| c.effect != EffectKind::Slip || c.delta_score < 0.0)
         .filter_map(|(c, w)| w.map(|w| (c, w)))
         .collect();
+    let rounds = pair_rounds(&fitted);
+    let best_single_px = fitted.iter().map(|(_, w)| w.rms_px()).fold(f64::INFINITY, f64::min);
+    let mut out: Vec<PairFit> = Vec::new();
+    let walked: Mutex<Vec<Vec<EffectKind>>> = Mutex::new(Vec::new());
+    for (n, round) in rounds.iter().enumerate() {
+        if reaches_noise(&out, noise_px) || round.is_empty() {
+            break;
+        }
+        progress.pairs_planned(n, round.len());
+        let one = |&(i, j): &(usize, usize), stop: &AtomicBool| -> PairFit {
+            let (a, b) = (fitted[i].1, fitted[j].1);
+            let ms = &ms.stopped_by(stop);
+            let mut fit = fit_pair(ms, levels, a, b, &mut |_, _| {});
+            // A pair that explains most of what the best effect alone leaves is walked again
+            // at once: a right pair's first walk often stops short of the noise (Reynolds
+            // drag beside pivot friction: 0.79 px, walked again 0.50 px against 0.49 px of
+            // noise), and walked it settles the recording, so the pairs after it are spared.
+            if fit.as_ref().is_ok_and(|p| {
+                explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
+            }) {
+                let mut one = [(a.kind, b.kind, fit)];
+                let walk = walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px);
+                let [(_, _, walked_fit)] = one;
+                fit = walked_fit;
+                match (walk, &fit) {
+                    (Ok(()), Ok(p)) => {
+                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(p.kinds())
+                    }
+                    _ => fit = Err(LmError::Cancelled),
+                }
+            }
+            let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
+            progress.pair_fitted(a.kind, b.kind, rms);
+            (a.kind, b.kind, fit)
+        };
+        let is_settled =
+            |(_, _, r): &PairFit| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px));
+        out.extend(in_order_until(round, &one, &is_settled, ms.cancel));
+        if ms.cancel.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(DiagnoseError::Cancelled);
+        }
+        if settles(&out, noise_px) {
+            break;
+        }
+    }
+    let walked = walked.into_inner().unwrap_or_else(|e| e.into_inner());
+    Ok((out, walked))
+}
+
+/// The pairs [`pairs_stage`] fits, as indices into `fitted`, in two rounds, most promising
+/// first: the best candidate with every other and the pairs among the best few first; the
+/// other leads only where no pair of the first round reaches the noise (a pair that does
+/// leaves nothing for another to explain).
+fn pair_rounds(fitted: &[(&Candidate, &WholeFit)]) -> [Vec<(usize, usize)>; 2] {
     let improving: Vec<usize> = (0..fitted.len())
         .filter(|&i| fitted[i].0.delta_score < 0.0 && fitted[i].1.stopped_at.is_none())
         .collect();
-    // Two rounds: the best candidate with every other and the pairs among the best few first;
-    // the other leads only where no pair of the first round reaches the noise (a pair that
-    // does leaves nothing for another to explain).
     let mut rounds: [Vec<(usize, usize)>; 2] = [Vec::new(), Vec::new()];
     let mut add = |round: usize, i: usize, j: usize| {
         let (i, j) = (i.min(j), i.max(j));
@@ -635,52 +660,7 @@ fn pairs_stage(
     for round in &mut rounds {
         round.sort_by(|a, b| promise(a).total_cmp(&promise(b)));
     }
-    let best_single_px = fitted.iter().map(|(_, w)| w.rms_px()).fold(f64::INFINITY, f64::min);
-    let mut out: Vec<PairFit> = Vec::new();
-    let walked: Mutex<Vec<Vec<EffectKind>>> = Mutex::new(Vec::new());
-    for (n, round) in rounds.iter().enumerate() {
-        if reaches_noise(&out, noise_px) || round.is_empty() {
-            break;
-        }
-        progress.pairs_planned(n, round.len());
-        let one = |&(i, j): &(usize, usize), stop: &AtomicBool| -> PairFit {
-            let (a, b) = (fitted[i].1, fitted[j].1);
-            let mut fit = fit_pair(ms, levels, a, b, &mut |_, _| {}, stop);
-            // A pair that explains most of what the best effect alone leaves is walked again
-            // at once: a right pair's first walk often stops short of the noise (Reynolds
-            // drag beside pivot friction: 0.79 px, walked again 0.50 px against 0.49 px of
-            // noise), and walked it settles the recording, so the pairs after it are spared.
-            if fit.as_ref().is_ok_and(|p| {
-                explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
-            }) {
-                let mut one = [(a.kind, b.kind, fit)];
-                let walk =
-                    walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px, stop);
-                let [(_, _, walked_fit)] = one;
-                fit = walked_fit;
-                match (walk, &fit) {
-                    (Ok(()), Ok(p)) => {
-                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(p.kinds())
-                    }
-                    _ => fit = Err(LmError::Cancelled),
-                }
-            }
-            let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
-            progress.pair_fitted(a.kind, b.kind, rms);
-            (a.kind, b.kind, fit)
-        };
-        let is_settled =
-            |(_, _, r): &PairFit| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px));
-        out.extend(in_order_until(round, &one, &is_settled, cancel));
-        if cancel.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(DiagnoseError::Cancelled);
-        }
-        if settles(&out, noise_px) {
-            break;
-        }
-    }
-    let walked = walked.into_inner().unwrap_or_else(|e| e.into_inner());
-    Ok((out, walked))
+    rounds
 }
 
 /// Forward selection from where the best single candidate ended: each other effect (slip
@@ -695,7 +675,6 @@ fn added_to_best(
     ranked: &[(Candidate, Option<&WholeFit>)],
     pair_fits: &mut Vec<PairFit>,
     noise_px: f64,
-    cancel: &AtomicBool,
 ) -> Result<(), DiagnoseError> {
     let Some(lead) = ranked
         .iter()
@@ -708,13 +687,13 @@ fn added_to_best(
         others_through_camera(ranked, false).into_iter().filter(|&k| k != lead.kind).collect();
     let one = |&k: &EffectKind, stop: &AtomicBool| {
         let zero = k.baseline_strength().unwrap_or(0.0);
-        (k, refit_with(ms, lead, k, zero, stop))
+        (k, refit_with(&ms.stopped_by(stop), lead, k, zero))
     };
     let is_settled = |(_, r): &(EffectKind, Result<WholeFit, LmError>)| {
         r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px))
     };
-    let fits = in_order_until(&added, &one, &is_settled, cancel);
-    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+    let fits = in_order_until(&added, &one, &is_settled, ms.cancel);
+    if ms.cancel.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(DiagnoseError::Cancelled);
     }
     for (k, fit) in fits {

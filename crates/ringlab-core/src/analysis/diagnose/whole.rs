@@ -15,7 +15,6 @@ use crate::recording::Camera;
 use crate::recording::marks::{MarkGeometry, mark_radius};
 use rayon::prelude::*;
 use std::ops::Range;
-use std::sync::atomic::AtomicBool;
 
 /// Iterations allowed at each intermediate segmentation (they only need to keep the path in
 /// the right valley), and at the final single segment.
@@ -172,9 +171,8 @@ pub fn fit_whole(
     global: Vec<f64>,
     states: &[StateVec],
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<WholeFit, LmError> {
-    fit_path(sh, global, states, &no_ceiling, on_iteration, cancel).map(|(w, _)| w)
+    fit_path(sh, global, states, &no_ceiling, on_iteration).map(|(w, _)| w)
 }
 
 /// [`fit_whole`], and the fitted stages of its path (for other paths to start from). A stage
@@ -188,7 +186,6 @@ pub fn fit_path(
     states: &[StateVec],
     ceiling: &dyn Fn(usize) -> f64,
     on_iteration: &mut dyn FnMut(usize, f64),
-    cancel: &AtomicBool,
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
     let clock = std::time::Instant::now();
     let kinds: Vec<EffectKind> = sh
@@ -198,60 +195,54 @@ pub fn fit_path(
         .filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None })
         .collect();
     let kind = kinds.last().copied().unwrap_or(EffectKind::None);
+    let walked = walk(sh, global, states, ceiling, on_iteration, kind)?;
+    let mut fit = whole_fit(&walked, &kinds)?;
+    fit.seconds = clock.elapsed().as_secs_f64();
+    Ok((fit, walked.levels))
+}
+
+/// Where a path's walk ended: its last stage's problem (one segment) and solution, every
+/// stage, the iterations spent, and the stage whose ceiling stopped it.
+struct Walked<'a> {
+    sh: Shooting<'a>,
+    sol: lm::LmSolution,
+    levels: Vec<Level>,
+    iterations: usize,
+    stopped_at: Option<usize>,
+}
+
+/// The stages of [`fit_path`]: the segments merged pairwise, each stage refitted (or taken as
+/// it starts where the merged segments follow the data already), down to one segment or to a
+/// stage above its ceiling.
+fn walk<'a>(
+    sh: &Shooting<'a>,
+    global: Vec<f64>,
+    states: &[StateVec],
+    ceiling: &dyn Fn(usize) -> f64,
+    on_iteration: &mut dyn FnMut(usize, f64),
+    kind: EffectKind,
+) -> Result<Walked<'a>, LmError> {
     let mut sh = sh.clone();
     let mut global = global;
     let mut locals: Vec<Vec<f64>> = states.iter().map(|y| y.to_vec()).collect();
-    let mut iterations = 0;
-    let mut levels = Vec::new();
+    let (mut iterations, mut levels) = (0, Vec::new());
     // The previous stage's cost, residual count and free numbers.
     let mut previous: Option<(f64, usize, usize)> = None;
-    let mut stopped_at = None;
-    let sol = loop {
-        let last = sh.segments.len() == 1;
+    loop {
         let segments = sh.segments.len();
-        let as_states = |locals: &[Vec<f64>]| -> Vec<StateVec> {
-            locals.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect()
-        };
-        // Where the longer segments fit as they start, within what the freed states allow
-        // (the fit's merge rule), this stage needs no refit: the model follows the data over
-        // them already. Saves most of the work for a model that is right.
-        if !last && let Some((cost, count, params)) = previous {
-            let start = segment_cost(&sh, &global, &as_states(&locals));
-            let freed = (params - sh.spec.fitted_count() - 8 * segments) as f64;
-            let variance = cost / count.saturating_sub(params).max(1) as f64;
-            if start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance {
-                on_iteration(segments, start);
-                levels.push(Level {
-                    segments: sh.segments.clone(),
-                    global: global.clone(),
-                    states: as_states(&locals),
-                    cost: start,
-                });
-                previous = Some((start, count, sh.spec.fitted_count() + 8 * segments));
-                sh.segments =
-                    sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
-                locals = locals.iter().step_by(2).cloned().collect();
-                continue;
-            }
+        let last = segments == 1;
+        if !last && let Some(level) = as_it_starts(&sh, &global, &locals, previous) {
+            on_iteration(segments, level.cost);
+            previous = previous
+                .map(|(_, count, _)| (level.cost, count, sh.spec.fitted_count() + 8 * segments));
+            levels.push(level);
+            sh.segments = merged(&sh.segments);
+            locals = locals.iter().step_by(2).cloned().collect();
+            continue;
         }
-        let opts = LmOptions {
-            max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
-            rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
-            covariance: last,
-            secant_steps: if last { FINAL_SECANT_STEPS } else { 0 },
-            // The baseline's misfit is what every candidate's is measured against: its last
-            // stage stops where the exact gradient vanishes (`lm`'s cheaper columns).
-            exact_finish: last && kind == EffectKind::None,
-            ..LmOptions::default()
-        };
-        let sol = lm::solve(
-            &sh,
-            global,
-            locals,
-            &opts,
-            &mut |_, cost| on_iteration(segments, cost),
-            cancel,
-        )?;
+        let opts = stage_options(last, kind);
+        let mut on_stage = |_, cost| on_iteration(segments, cost);
+        let sol = lm::solve(&sh, global, locals, &opts, &mut on_stage, sh.cancel)?;
         iterations += sol.iterations;
         levels.push(Level {
             segments: sh.segments.clone(),
@@ -260,20 +251,73 @@ pub fn fit_path(
             cost: sol.cost,
         });
         if last {
-            break sol;
+            return Ok(Walked { sh, sol, levels, iterations, stopped_at: None });
         }
         if sol.cost > ceiling(segments) {
-            stopped_at = Some(segments);
             sh.segments = vec![sh.segments[0].start..sh.segments[segments - 1].end];
             let start: Vec<f64> = sol.local.first().cloned().ok_or(LmError::BadStart)?;
             let cost = segment_cost(&sh, &sol.global, &as_states(std::slice::from_ref(&start)));
-            break lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol };
+            let sol = lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol };
+            return Ok(Walked { sh, sol, levels, iterations, stopped_at: Some(segments) });
         }
         previous = Some((sol.cost, sol.residual_count, sh.spec.fitted_count() + 8 * segments));
-        sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();
+        sh.segments = merged(&sh.segments);
         locals = sol.local.iter().step_by(2).cloned().collect();
         global = sol.global;
-    };
+    }
+}
+
+/// The segments merged pairwise (an odd last one alone).
+fn merged(segments: &[Range<usize>]) -> Vec<Range<usize>> {
+    segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect()
+}
+
+fn as_states(locals: &[Vec<f64>]) -> Vec<StateVec> {
+    locals.iter().map(|b| b.as_slice().try_into().unwrap_or([f64::NAN; 8])).collect()
+}
+
+/// The stage at `sh`'s segments as it starts, where the longer segments fit as they start
+/// within what the freed states allow (the fit's merge rule): then it needs no refit, the model
+/// follows the data over them already. Saves most of the work for a model that is right.
+fn as_it_starts(
+    sh: &Shooting,
+    global: &[f64],
+    locals: &[Vec<f64>],
+    previous: Option<(f64, usize, usize)>,
+) -> Option<Level> {
+    let (cost, count, params) = previous?;
+    let segments = sh.segments.len();
+    let start = segment_cost(sh, global, &as_states(locals));
+    let freed = (params - sh.spec.fitted_count() - 8 * segments) as f64;
+    let variance = cost / count.saturating_sub(params).max(1) as f64;
+    (start - cost <= (freed + 4.0 * (2.0 * freed).sqrt()) * variance).then(|| Level {
+        segments: sh.segments.clone(),
+        global: global.to_vec(),
+        states: as_states(locals),
+        cost: start,
+    })
+}
+
+/// The least squares' options for a stage of a path: a few iterations to keep an intermediate
+/// stage in the right valley, more (and the uncertainties) at the last.
+fn stage_options(last: bool, kind: EffectKind) -> LmOptions {
+    LmOptions {
+        max_iterations: if last { FINAL_ITERATIONS } else { LEVEL_ITERATIONS },
+        rel_tol: if last { FINAL_REL_TOL } else { 1e-4 },
+        covariance: last,
+        secant_steps: if last { FINAL_SECANT_STEPS } else { 0 },
+        // The baseline's misfit is what every candidate's is measured against: its last
+        // stage stops where the exact gradient vanishes (`lm`'s cheaper columns).
+        exact_finish: last && kind == EffectKind::None,
+        ..LmOptions::default()
+    }
+}
+
+/// The fit a walk ended with, its numbers as values with their sigmas (`kinds`: the effects
+/// fitted, in order).
+fn whole_fit(walked: &Walked, kinds: &[EffectKind]) -> Result<WholeFit, LmError> {
+    let (sh, sol) = (&walked.sh, &walked.sol);
+    let kind = kinds.last().copied().unwrap_or(EffectKind::None);
     let values = sh.spec.to_values(&sol.global);
     let jac = sh.spec.value_per_internal(&sol.global);
     let params = sh.spec.fitted_count() + 8;
@@ -285,7 +329,7 @@ pub fn fit_path(
     };
     let start: StateVec =
         sol.local.first().and_then(|b| b.as_slice().try_into().ok()).ok_or(LmError::BadStart)?;
-    let fit = WholeFit {
+    Ok(WholeFit {
         kind,
         c: [values[0], values[1], values[2]],
         c_sigma: [sigma(0), sigma(1), sigma(2)],
@@ -313,10 +357,9 @@ pub fn fit_path(
         parameter_count: params,
         model,
         camera,
-        iterations,
-        internal: sol.global,
-        seconds: clock.elapsed().as_secs_f64(),
-        stopped_at,
-    };
-    Ok((fit, levels))
+        iterations: walked.iterations,
+        internal: sol.global.clone(),
+        seconds: 0.0,
+        stopped_at: walked.stopped_at,
+    })
 }

@@ -77,7 +77,7 @@ struct Refined<'a> {
     iterations: usize,
 }
 
-impl FitRun<'_> {
+impl<'r> FitRun<'r> {
     fn report(&self, stage: FitStage, done: usize, total: usize, rms_px: Option<f64>) {
         (self.progress)(&FitProgress { stage, done, total, rms_px });
     }
@@ -134,7 +134,10 @@ impl FitRun<'_> {
 
     /// Stage 2: the model (the recording's body, the starting drag, an effect's strength), the
     /// segments and the start-state candidates from the poses.
-    fn set_up<'d>(&self, data: &'d Data) -> Result<Problem<'d>, FitError> {
+    fn set_up<'d>(&self, data: &'d Data) -> Result<Problem<'d>, FitError>
+    where
+        'r: 'd,
+    {
         let opts = self.opts;
         let (motion, f0) = (&data.motion, data.f0);
         let units = motion.units;
@@ -172,6 +175,7 @@ impl FitRun<'_> {
             length_mm: 1.0 / to_model.length,
             budget: None,
             last_runs: LastRuns::default(),
+            cancel: self.cancel,
         };
         let mut global = shooting.spec.to_internal(&shooting.spec.initial_values());
         if let (Some((_, strength)), Some(g)) = (opts.effect, global.get_mut(3)) {
@@ -193,7 +197,7 @@ impl FitRun<'_> {
                 segments: std::iter::once(first.start..end).collect(),
                 ..p.shooting.clone()
             };
-            p.y0 = fit_segment(&window, 0, &p.global, &candidates, self.cancel)?.0;
+            p.y0 = fit_segment(&window, 0, &p.global, &candidates)?.0;
             candidates = vec![p.y0];
         }
         self.check()
@@ -237,8 +241,7 @@ impl FitRun<'_> {
         for drag in drags {
             let mut g = p.global.clone();
             g[..3].copy_from_slice(&drag);
-            let (cost, states) =
-                init_segments(&p.shooting, &data.motion, &g, p.y0, &report, self.cancel)?;
+            let (cost, states) = init_segments(&p.shooting, &data.motion, &g, p.y0, &report)?;
             if best.as_ref().is_none_or(|b| cost < b.0) {
                 best = Some((cost, g, states));
             }
@@ -260,7 +263,7 @@ impl FitRun<'_> {
             self.report(FitStage::Refine, k, max_it, Some((cost / m_total as f64).sqrt()))
         };
         let mut sol =
-            lm::solve(&shooting, p.global, locals, &lm_opts, &mut on_iteration, self.cancel)?;
+            lm::solve(&shooting, p.global, locals, &lm_opts, &mut on_iteration, shooting.cancel)?;
         let mut iterations = sol.iterations;
         for _ in 0..self.opts.merges {
             if shooting.segments.len() < 2 {
@@ -276,7 +279,7 @@ impl FitRun<'_> {
                 locals,
                 &lm_opts,
                 &mut on_iteration,
-                self.cancel,
+                longer.cancel,
             )?;
             iterations += trial.iterations;
             // Merging frees 8 numbers per pair: the cost may grow by about that many noise

@@ -360,143 +360,241 @@ pub fn solve(
     on_iteration: &mut dyn FnMut(usize, f64),
     cancel: &AtomicBool,
 ) -> Result<LmSolution, LmError> {
-    let ng = p.global_count();
-    let (mut g, mut b) = (global, local);
-    let (mut cost, mut res) = evaluate(p, &g, &b).ok_or(LmError::BadStart)?;
-    let residual_count = res.iter().map(Vec::len).sum();
-    let mut lambda = opts.lambda0;
-    let mut iterations = 0;
-    let mut cov = None;
+    let (cost, res) = evaluate(p, &global, &local).ok_or(LmError::BadStart)?;
+    let mut s = Solver {
+        p,
+        opts,
+        residual_count: res.iter().map(Vec::len).sum(),
+        g: global,
+        b: local,
+        cost,
+        res,
+        lambda: opts.lambda0,
+        iterations: 0,
+        cov: None,
+        current: None,
+        fresh_jacobians: 0,
+        cheap: true,
+    };
     let max_steps = opts.max_iterations * (1 + opts.secant_steps);
-    // The current linearization, and the secant steps taken on it since it was fresh.
-    let mut current: Option<(Linearized, usize)> = None;
-    let mut fresh_jacobians = 0;
-    // Jacobians of the cheaper columns while they lead somewhere, exact ones from where one
-    // stalls: the fit stops where the exact gradient vanishes (with large residuals, a few
-    // percent off in the Jacobian moves that point).
-    let mut cheap = true;
-    let switch = opts.exact_finish;
-    'outer: while iterations < max_steps {
+    while s.iterations < max_steps {
         if cancel.load(Ordering::Relaxed) {
             return Err(LmError::Cancelled);
         }
-        let (mut lin, secants) = match current.take() {
-            Some(c) => c,
-            None => {
-                if fresh_jacobians == opts.max_iterations {
-                    break;
-                }
-                fresh_jacobians += 1;
-                let lin = match linearize(p, &g, &b, res.clone(), cost, cheap) {
-                    Some(lin) => lin,
-                    None if cheap => {
-                        cheap = false;
-                        let Some(lin) = linearize(p, &g, &b, res.clone(), cost, false) else {
-                            break;
-                        };
-                        lin
-                    }
-                    None => break,
-                };
-                cheap &= lin.cheap;
-                (lin, 0)
+        let Some((lin, secants)) = s.linearization() else { break };
+        s.iterations += 1;
+        if s.iterate(lin, secants, on_iteration, cancel)? == Flow::Stop {
+            break;
+        }
+    }
+    Ok(s.finish())
+}
+
+/// The solver's state between iterations.
+struct Solver<'p> {
+    p: &'p dyn BlockProblem,
+    opts: &'p LmOptions,
+    g: Vec<f64>,
+    b: Vec<Vec<f64>>,
+    cost: f64,
+    res: Vec<Vec<f64>>,
+    residual_count: usize,
+    lambda: f64,
+    iterations: usize,
+    /// The last step's Schur complement inverse (the covariance, unscaled and damped).
+    cov: Option<DMatrix<f64>>,
+    /// The current linearization, and the secant steps taken on it since it was fresh.
+    current: Option<(Linearized, usize)>,
+    fresh_jacobians: usize,
+    /// Jacobians of the cheaper columns while they lead somewhere, exact ones from where one
+    /// stalls: the fit stops where the exact gradient vanishes (with large residuals, a few
+    /// percent off in the Jacobian moves that point).
+    cheap: bool,
+}
+
+/// What an iteration leaves the solver to do: go on, or stop where it is.
+#[derive(PartialEq)]
+enum Flow {
+    Next,
+    Stop,
+}
+
+impl Solver<'_> {
+    /// The linearization to step from: the current one while secant steps go on, else a fresh
+    /// Jacobian (exact where the cheaper columns cannot be had); None where none is left.
+    fn linearization(&mut self) -> Option<(Linearized, usize)> {
+        if let Some(c) = self.current.take() {
+            return Some(c);
+        }
+        if self.fresh_jacobians == self.opts.max_iterations {
+            return None;
+        }
+        self.fresh_jacobians += 1;
+        let (p, g, b) = (self.p, &self.g, &self.b);
+        let lin = match linearize(p, g, b, self.res.clone(), self.cost, self.cheap) {
+            Some(lin) => lin,
+            None if self.cheap => {
+                self.cheap = false;
+                linearize(p, g, b, self.res.clone(), self.cost, false)?
             }
+            None => return None,
         };
+        self.cheap &= lin.cheap;
+        Some((lin, 0))
+    }
+
+    /// Steps from `lin`, the damping raised until one lowers the cost (a secant
+    /// linearization that fails is refreshed before the damping grows).
+    fn iterate(
+        &mut self,
+        lin: Linearized,
+        secants: usize,
+        on_iteration: &mut dyn FnMut(usize, f64),
+        cancel: &AtomicBool,
+    ) -> Result<Flow, LmError> {
         let fresh = secants == 0;
-        iterations += 1;
         loop {
             if cancel.load(Ordering::Relaxed) {
                 return Err(LmError::Cancelled);
             }
-            // A bounded global at its bound whose step points out of the box is held there
-            // and the step solved again for the rest (an active set): projected alone, the
-            // others would move as if it had moved.
-            let free = step(&lin, ng, lambda, &[]);
-            let held = free.as_ref().map(|s| held_at_bounds(p, &g, &s.dg));
-            let chosen = match held.filter(|h| h.contains(&true)) {
-                Some(held) => step(&lin, ng, lambda, &held),
-                None => free,
-            };
-            let Some(Step { dg, db, schur_inverse }) = chosen else {
-                lambda *= 10.0;
-                if lambda > 1e16 {
-                    if lin.cheap && switch {
-                        (cheap, lambda) = (false, opts.lambda0);
-                        break;
-                    }
-                    break 'outer;
+            let Some(Step { dg, db, schur_inverse }) =
+                bounded_step(self.p, &lin, self.lambda, &self.g)
+            else {
+                self.lambda *= 10.0;
+                if self.lambda > 1e16 {
+                    return Ok(self.damped_out(&lin));
                 }
                 continue;
             };
-            cov = Some(schur_inverse);
-            let mut g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
-            p.project_global(&mut g_t);
-            let dg = DVector::from_iterator(ng, g_t.iter().zip(&g).map(|(a, b)| a - b));
-            let b_t: Vec<Vec<f64>> = b
-                .iter()
-                .zip(&db)
-                .map(|(bs, d)| bs.iter().zip(d.iter()).map(|(a, d)| a + d).collect())
-                .collect();
-            match evaluate(p, &g_t, &b_t) {
+            self.cov = Some(schur_inverse);
+            let (g_t, dg, b_t) = trial(self.p, &self.g, &self.b, &dg, &db);
+            match evaluate(self.p, &g_t, &b_t) {
                 Some((c_t, r_t)) if c_t < lin.cost => {
-                    let gain = (lin.cost - c_t) / lin.cost.max(1e-300);
-                    if opts.secant_steps > 0 {
-                        secant_update(&mut lin, &dg, &db, &r_t);
-                    }
-                    for (blk, r) in lin.blocks.iter_mut().zip(&r_t) {
-                        blk.r = DVector::from_column_slice(r);
-                    }
-                    lin.cost = c_t;
-                    (g, b, cost, res) = (g_t, b_t, c_t, r_t);
-                    lambda = (lambda / 3.0).max(1e-12);
-                    on_iteration(iterations, cost);
-                    if gain < opts.rel_tol {
-                        if fresh && lin.cheap && switch {
-                            cheap = false;
-                            break;
-                        }
-                        if fresh {
-                            break 'outer;
-                        }
-                        // A secant Jacobian's small gain may be its own staleness.
-                        break;
-                    }
-                    if secants < opts.secant_steps {
-                        current = Some((lin, secants + 1));
-                    }
-                    break;
+                    let accepted = Accepted { g: g_t, b: b_t, dg, db, cost: c_t, res: r_t };
+                    return Ok(self.accept(lin, secants, accepted, on_iteration));
                 }
-                // A secant Jacobian that fails is refreshed before the damping grows.
-                _ if !fresh => break,
+                _ if !fresh => return Ok(Flow::Next),
                 _ => {
-                    lambda *= 4.0;
-                    if lambda > 1e16 {
-                        if lin.cheap && switch {
-                            (cheap, lambda) = (false, opts.lambda0);
-                            break;
-                        }
-                        break 'outer;
+                    self.lambda *= 4.0;
+                    if self.lambda > 1e16 {
+                        return Ok(self.damped_out(&lin));
                     }
                 }
             }
         }
     }
-    // The covariance at the solution, undamped (the last damped one where that fails).
-    if !opts.covariance {
-        cov = None;
-    } else if let Some(lin) = linearize(p, &g, &b, res, cost, false)
-        && let Some(step) = step(&lin, ng, 0.0, &pinned(p, &g))
-    {
-        cov = Some(step.schur_inverse);
+
+    /// No damping helps: from the cheaper columns, exact ones next (where the fit should end
+    /// where the exact gradient vanishes); else the end.
+    fn damped_out(&mut self, lin: &Linearized) -> Flow {
+        if lin.cheap && self.opts.exact_finish {
+            (self.cheap, self.lambda) = (false, self.opts.lambda0);
+            Flow::Next
+        } else {
+            Flow::Stop
+        }
     }
-    Ok(LmSolution {
-        global: g,
-        local: b,
-        cost,
-        residual_count,
-        iterations,
-        global_cov_unscaled: cov.filter(|c| c.nrows() > 0),
-    })
+
+    /// A step that lowered the cost taken: the linearization moved to it (Broyden's update
+    /// where secant steps are allowed), and whether the gain says the fit is done.
+    fn accept(
+        &mut self,
+        mut lin: Linearized,
+        secants: usize,
+        t: Accepted,
+        on_iteration: &mut dyn FnMut(usize, f64),
+    ) -> Flow {
+        let gain = (lin.cost - t.cost) / lin.cost.max(1e-300);
+        if self.opts.secant_steps > 0 {
+            secant_update(&mut lin, &t.dg, &t.db, &t.res);
+        }
+        for (blk, r) in lin.blocks.iter_mut().zip(&t.res) {
+            blk.r = DVector::from_column_slice(r);
+        }
+        lin.cost = t.cost;
+        (self.g, self.b, self.cost, self.res) = (t.g, t.b, t.cost, t.res);
+        self.lambda = (self.lambda / 3.0).max(1e-12);
+        on_iteration(self.iterations, self.cost);
+        let fresh = secants == 0;
+        if gain < self.opts.rel_tol {
+            if fresh && lin.cheap && self.opts.exact_finish {
+                self.cheap = false;
+                return Flow::Next;
+            }
+            // A secant Jacobian's small gain may be its own staleness.
+            return if fresh { Flow::Stop } else { Flow::Next };
+        }
+        if secants < self.opts.secant_steps {
+            self.current = Some((lin, secants + 1));
+        }
+        Flow::Next
+    }
+
+    /// The solution, with the covariance at it undamped (the last damped one where that
+    /// fails).
+    fn finish(self) -> LmSolution {
+        let Solver { p, opts, g, b, cost, res, mut cov, .. } = self;
+        let ng = p.global_count();
+        if !opts.covariance {
+            cov = None;
+        } else if let Some(lin) = linearize(p, &g, &b, res, cost, false)
+            && let Some(step) = step(&lin, ng, 0.0, &pinned(p, &g))
+        {
+            cov = Some(step.schur_inverse);
+        }
+        LmSolution {
+            global: g,
+            local: b,
+            cost,
+            residual_count: self.residual_count,
+            iterations: self.iterations,
+            global_cov_unscaled: cov.filter(|c| c.nrows() > 0),
+        }
+    }
+}
+
+/// A trial point that lowered the cost: the globals and locals, the step that reached them,
+/// its cost and residuals.
+struct Accepted {
+    g: Vec<f64>,
+    b: Vec<Vec<f64>>,
+    dg: DVector<f64>,
+    db: Vec<DVector<f64>>,
+    cost: f64,
+    res: Vec<Vec<f64>>,
+}
+
+/// The damped step from `lin`; a bounded global at its bound whose step points out of the box
+/// is held there and the step solved again for the rest (an active set): projected alone, the
+/// others would move as if it had moved.
+fn bounded_step(p: &dyn BlockProblem, lin: &Linearized, lambda: f64, g: &[f64]) -> Option<Step> {
+    let ng = p.global_count();
+    let free = step(lin, ng, lambda, &[]);
+    let held = free.as_ref().map(|s| held_at_bounds(p, g, &s.dg));
+    match held.filter(|h| h.contains(&true)) {
+        Some(held) => step(lin, ng, lambda, &held),
+        None => free,
+    }
+}
+
+/// The point the step `(dg, db)` reaches from `(g, b)`, the globals projected into their box,
+/// and the globals' step as projected.
+fn trial(
+    p: &dyn BlockProblem,
+    g: &[f64],
+    b: &[Vec<f64>],
+    dg: &DVector<f64>,
+    db: &[DVector<f64>],
+) -> (Vec<f64>, DVector<f64>, Vec<Vec<f64>>) {
+    let mut g_t: Vec<f64> = g.iter().zip(dg.iter()).map(|(a, d)| a + d).collect();
+    p.project_global(&mut g_t);
+    let dg = DVector::from_iterator(p.global_count(), g_t.iter().zip(g).map(|(a, b)| a - b));
+    let b_t: Vec<Vec<f64>> = b
+        .iter()
+        .zip(db)
+        .map(|(bs, d)| bs.iter().zip(d.iter()).map(|(a, d)| a + d).collect())
+        .collect();
+    (g_t, dg, b_t)
 }
 
 #[cfg(test)]

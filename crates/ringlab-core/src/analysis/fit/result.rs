@@ -2,7 +2,7 @@
 
 use super::last_runs::LastRuns;
 use super::params::{Free, ModelSpec, StartReynolds};
-use super::shooting::Shooting;
+use super::shooting::{NEVER_CANCELLED, Shooting};
 use crate::physics::effects::EffectKind;
 use crate::physics::run::RunError;
 use crate::physics::{Initial, Model, RunOptions, RunSummary, Sample, Simulation, StateVec, Units};
@@ -10,6 +10,7 @@ use crate::recording::glitches::Glitch;
 use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks};
 use std::ops::Range;
+use std::sync::atomic::AtomicBool;
 
 /// What a fit found.
 #[derive(Clone, Debug)]
@@ -58,8 +59,9 @@ pub struct FitResult {
 
 impl FitResult {
     /// The fit's multiple-shooting problem at its final segments, with the drag free (the
-    /// fitted model as the base): for refits that start where this fit ended (the diagnosis).
-    pub fn shooting<'a>(&self, observed: &'a [FrameMarks]) -> Shooting<'a> {
+    /// fitted model as the base): for refits that start where this fit ended (the diagnosis),
+    /// stopped by `cancel`.
+    pub fn shooting<'a>(&self, observed: &'a [FrameMarks], cancel: &'a AtomicBool) -> Shooting<'a> {
         let free = (0..3).map(Free::Drag).collect();
         Shooting {
             observed,
@@ -77,6 +79,7 @@ impl FitResult {
             length_mm: self.units.length_mm,
             budget: None,
             last_runs: LastRuns::default(),
+            cancel,
         }
     }
 
@@ -84,7 +87,7 @@ impl FitResult {
     /// segment from its fitted state), `None` elsewhere: what is drawn over the film.
     pub fn predicted_marks(&self, observed: &[FrameMarks]) -> Vec<Option<[[f64; 2]; 4]>> {
         let mut out = vec![None; observed.len()];
-        let shooting = self.shooting(observed);
+        let shooting = self.shooting(observed, &NEVER_CANCELLED);
         for (s, range) in self.segments.iter().enumerate() {
             let Some(state) = self.segment_states.get(s) else { continue };
             if let Some(marks) = shooting.predict(&self.model, &self.camera, s, state) {

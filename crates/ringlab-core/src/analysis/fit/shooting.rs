@@ -41,7 +41,14 @@ pub struct Shooting<'a> {
     /// Each segment's last run, for the Jacobian at that point ([`LastRuns`]); a clone's is
     /// empty.
     pub last_runs: LastRuns<Prediction>,
+    /// The caller's flag that stops every fit made on this problem (and its clones) between
+    /// evaluations: it travels with the problem, as the budget does, rather than beside it
+    /// through every function of a fit.
+    pub cancel: &'a AtomicBool,
 }
+
+/// A flag nobody sets: for problems whose fits are never stopped (tests, predictions).
+pub static NEVER_CANCELLED: AtomicBool = AtomicBool::new(false);
 
 /// A cap on the integration steps of one fit, shared by the threads that work for it. Once it
 /// is spent every prediction fails as if outside the model's domain, and the least squares stop
@@ -197,7 +204,16 @@ pub fn predict_with_steps(
     }
 }
 
-impl Shooting<'_> {
+impl<'a> Shooting<'a> {
+    /// The same problem, its fits stopped by `cancel` instead (a job's own flag, which a
+    /// queue of fits sets once another job's answer makes this one's moot).
+    pub fn stopped_by<'b>(&self, cancel: &'b AtomicBool) -> Shooting<'b>
+    where
+        'a: 'b,
+    {
+        Shooting { cancel, ..self.clone() }
+    }
+
     /// The marks' circle for `model`: the recording's, or the model body's where the body's
     /// dimensions are free.
     pub fn geometry_of(&self, model: &Model) -> MarkGeometry {

@@ -9,7 +9,6 @@ use crate::physics::model::ix;
 use crate::physics::{Initial, Model, RunOptions, Simulation, StateVec, TurnKind};
 use crate::recording::recover::RecoveredMotion;
 use std::ops::Range;
-use std::sync::atomic::AtomicBool;
 
 /// Every segment's start state with the globals fixed, each from the previous segment's end
 /// or the recovered poses, whichever fits better; and the total cost.
@@ -19,11 +18,10 @@ pub(super) fn init_segments(
     global: &[f64],
     y0: StateVec,
     report: &dyn Fn(FitStage, usize, usize, Option<f64>),
-    cancel: &AtomicBool,
 ) -> Result<(f64, Vec<StateVec>), FitError> {
     let count = sh.segments.len();
     let (model, _) = sh.spec.build(global).ok_or(FitError::BadStart)?;
-    let (y0, mut total) = fit_segment(sh, 0, global, &[y0], cancel)?;
+    let (y0, mut total) = fit_segment(sh, 0, global, &[y0])?;
     let mut states = vec![y0];
     for s in 1..count {
         report(FitStage::Segments, s, count, None);
@@ -39,7 +37,7 @@ pub(super) fn init_segments(
         if starts.is_empty() {
             starts.push(states[s - 1]);
         }
-        let (y, cost) = fit_segment(sh, s, global, &starts, cancel)?;
+        let (y, cost) = fit_segment(sh, s, global, &starts)?;
         states.push(y);
         total += cost;
     }
@@ -85,7 +83,6 @@ pub(super) fn fit_segment(
     s: usize,
     global: &[f64],
     starts: &[StateVec],
-    cancel: &AtomicBool,
 ) -> Result<(StateVec, f64), FitError> {
     let problem = OneSegment { shooting: sh, segment: s, global: global.to_vec() };
     let cost = |y: &StateVec| {
@@ -98,7 +95,7 @@ pub(super) fn fit_segment(
         .min_by(|a, b| cost(a).total_cmp(&cost(b)))
         .ok_or(FitError::BadStart)?;
     let opts = LmOptions { max_iterations: 25, rel_tol: 1e-6, ..LmOptions::default() };
-    match lm::solve(&problem, best.to_vec(), vec![vec![]], &opts, &mut |_, _| {}, cancel) {
+    match lm::solve(&problem, best.to_vec(), vec![vec![]], &opts, &mut |_, _| {}, sh.cancel) {
         Ok(sol) => Ok((sol.global.as_slice().try_into().unwrap_or(best), sol.cost)),
         Err(LmError::Cancelled) => Err(FitError::Cancelled),
         // A start the model cannot run from: keep it, the joint fit may still move it.
