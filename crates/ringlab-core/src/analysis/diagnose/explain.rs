@@ -110,7 +110,7 @@ fn fitted(f: &ModelFit) -> String {
 /// The noise in words.
 fn noise_words(d: &Diagnosis) -> String {
     let source = if d.noise_from_marks {
-        "the recording's pixel noise, estimated from each mark's track alone"
+        "the recording's pixel noise, estimated from each mark's track alone, or a film tracker's own estimate of its centres' error where larger"
     } else {
         "the baseline's segment misfit; the tracks gave no noise estimate"
     };
