@@ -169,6 +169,24 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }
 
+/// A disk's dots at 2 px per mm and crf 28 (`make-phone.sh --test-cut`): with no scale given,
+/// four specks of noise sit as marks do in its first frames; the ring must still be acquired
+/// and its scale measured from the marks.
+#[test]
+fn small_strongly_compressed_dots_give_their_scale_from_the_ring() {
+    let t = run(&test_data("video/disk-dark-none-phone.mp4"), &options(aluminium_disk()))
+        .expect("tracks with no scale given");
+    let truth = read_recording(&test_data("video/disk-dark-none-phone.truth.csv")).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert!(c.rms <= 1.4, "rms {:.3} px", c.rms);
+    assert!(c.found >= 0.98, "found {:.1}%", 100.0 * c.found);
+    assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
+    let s = t.report.ring_scale.as_ref().expect("a scale");
+    let k = truth.header.px_per_mm;
+    assert!((s.px_per_mm / k - 1.0).abs() < 0.02, "{} against {k}", s.px_per_mm);
+    assert!((s.px_per_mm - k).abs() < 3.0 * s.sigma, "{} +- {} against {k}", s.px_per_mm, s.sigma);
+}
+
 #[test]
 fn dark_dots_seen_by_a_near_tilted_camera_are_tracked_within_the_goal() {
     let t = check_film("dark-perspective-mid", steel_ring(), 0.7);

@@ -4,7 +4,7 @@
 # the true centres scaled alike.
 #
 #   make-phone.sh OUTDIR [SHARED]     every stand-in of docs/film.md, at crf 23 and 28, in OUTDIR
-#   make-phone.sh --test-cut [SHARED] the small cut the tests keep (tests/data/video/)
+#   make-phone.sh --test-cut [SHARED] the small cuts the tests keep (tests/data/video/)
 #
 # A pixel's centre is at integer coordinates in the truth as in the tracker, so a centre
 # scaled by s is (x + 0.5) s - 0.5, as the scale filter maps pixels.
@@ -44,6 +44,7 @@ stand_in() {
 if [ "${1:-}" = "--test-cut" ]; then
     shared=${2:-$here/../../../../shared/data/video}
     stand_in "$shared" colours-none 300 539 28 "$here/colours-none-phone"
+    stand_in "$shared" disk-dark-none 0 535 28 "$here/disk-dark-none-phone"
     exit 0
 fi
 

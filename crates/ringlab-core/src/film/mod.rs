@@ -1,11 +1,12 @@
 //! Films of a spinning ring: the four marks found in each frame and written as a recording.
 //!
 //! Stages of [`track`]: open the film ([`source`]: ffmpeg for video files, the `image` crate
-//! for a folder of frames), find the four marks in the first frames ([`find`]), follow them
-//! frame by frame ([`follow`], sub-pixel centres by [`centre`]), measure the scale from the
-//! ring where none is given ([`scale`]), and assemble the recording with a report of what was
-//! found, left out, and the centres' error.
+//! for a folder of frames), find the four marks in the first frames ([`find`]; dots confirmed
+//! by the next frame, [`acquire`]), follow them frame by frame ([`follow`], sub-pixel centres
+//! by [`centre`]), measure the scale from the ring where none is given ([`scale`]), and
+//! assemble the recording with a report of what was found, left out, and the centres' error.
 
+pub mod acquire;
 pub mod centre;
 pub mod choice;
 pub mod error;
@@ -294,6 +295,7 @@ pub fn track(
     let mut sigma: Vec<[Option<f64>; 4]> = Vec::new();
     let mut frame = Frame::default();
     let mut follower: Option<follow::Follower> = None;
+    let mut acquirer = acquire::Acquirer::default();
     let mut acquired_at = None;
     let mut ambiguous = 0usize;
     let mut index = opts.from_frame;
@@ -316,15 +318,18 @@ pub fn track(
                         style: opts.style.name(),
                     }));
                 }
-                match find::find_marks(&frame, &roi, style, range) {
-                    Some((s, found)) => {
-                        style = s;
-                        let f = follow::Follower::new(style, &found, &frame, index, roi, range);
-                        acquired_at = Some(index);
-                        let first =
-                            follow::FrameResult { marks: f.last_positions(), ..Default::default() };
+                let found = find::find_marks(&frame, &roi, style, range);
+                if let Some((s, _)) = &found {
+                    style = *s;
+                }
+                match acquirer.offer(index, &frame, found) {
+                    Some(run) => {
+                        acquired_at = Some(run.first.0);
+                        let at = opts.from_frame;
+                        let (f, last) =
+                            follow_run(run, style, roi, range, at, &mut frames, &mut sigma);
                         follower = Some(f);
-                        first
+                        last
                     }
                     None => follow::FrameResult::default(),
                 }
@@ -339,6 +344,37 @@ pub fn track(
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, ambiguous, reacquired)
+}
+
+/// Follows the ring from the first frame of the run that acquired it (`acquire`) through the
+/// others, whose results replace those already pushed (`first`: the film's first frame
+/// tracked); the last of the run is the frame in hand, whose result is returned with the
+/// ambiguous marks of the whole run.
+fn follow_run(
+    run: acquire::Run,
+    style: MarkStyle,
+    roi: Roi,
+    range: (f64, f64),
+    first: u64,
+    frames: &mut [FrameMarks],
+    sigma: &mut [[Option<f64>; 4]],
+) -> (follow::Follower, follow::FrameResult) {
+    let (index, frame, found) = run.first;
+    let mut f = follow::Follower::new(style, &found, &frame, index, roi, range);
+    let mut result = follow::FrameResult { marks: f.last_positions(), ..Default::default() };
+    let mut ambiguous = 0;
+    let mut at = index;
+    for (index, frame) in run.rest {
+        let slot = (at - first) as usize;
+        if let (Some(m), Some(s)) = (frames.get_mut(slot), sigma.get_mut(slot)) {
+            (*m, *s) = (result.marks, result.sigma);
+        }
+        result = f.step(&frame, index);
+        ambiguous += result.ambiguous;
+        at = index;
+    }
+    result.ambiguous = ambiguous;
+    (f, result)
 }
 
 /// The marks' style, told from the first frames before tracking: colours where four blobs
