@@ -69,15 +69,7 @@ pub struct FilmSpec {
 impl FilmSpec {
     /// What is wrong with the numbers, named as the command line names them.
     pub fn check(&self, body_mm: &Body) -> Result<(), String> {
-        if !(self.from.is_finite() && self.from >= 0.0) {
-            return Err(format!(
-                "--from = {}: must be a time at or after the start (0)",
-                self.from
-            ));
-        }
-        if !(self.to.is_finite() && self.to > self.from) {
-            return Err(format!("--to = {}: must be later than --from = {}", self.to, self.from));
-        }
+        super::check_span(self.from, self.to)?;
         if !(self.fps.is_finite() && self.fps > 0.0 && self.fps <= 1e5) {
             return Err(format!("--fps = {}: must be above 0 and at most 100000", self.fps));
         }

@@ -52,3 +52,15 @@ impl ExportError {
         move |source| ExportError::Io { path: path.to_path_buf(), source }
     }
 }
+
+/// What is wrong with a film's or a video's time span `--from`..`--to`, named as the command
+/// line names them.
+pub(crate) fn check_span(from: f64, to: f64) -> Result<(), String> {
+    if !(from.is_finite() && from >= 0.0) {
+        return Err(format!("--from = {from}: must be a time at or after the start (0)"));
+    }
+    if !(to.is_finite() && to > from) {
+        return Err(format!("--to = {to}: must be later than --from = {from}"));
+    }
+    Ok(())
+}

@@ -57,15 +57,7 @@ pub struct VideoSpec {
 impl VideoSpec {
     /// What is wrong with the numbers, named as the command line names them.
     pub fn check(&self, format: VideoFormat) -> Result<(), String> {
-        if !(self.from.is_finite() && self.from >= 0.0) {
-            return Err(format!(
-                "--from = {}: must be a time at or after the start (0)",
-                self.from
-            ));
-        }
-        if !(self.to.is_finite() && self.to > self.from) {
-            return Err(format!("--to = {}: must be later than --from = {}", self.to, self.from));
-        }
+        super::check_span(self.from, self.to)?;
         if !(self.fps.is_finite() && self.fps >= 1.0 && self.fps <= 120.0) {
             return Err(format!(
                 "--fps = {}: must be between 1 and 120 frames per second",
