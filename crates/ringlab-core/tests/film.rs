@@ -156,7 +156,9 @@ fn the_opening_of_a_film_is_tracked_from_its_first_frame() {
 
 /// A phone's film: `colours-none` at 2 px per mm, 240 frames/s, crf 28 (`make-phone.sh`),
 /// where a coloured mark is about one chroma sample. The goal is 1.4 px and 98% found: the
-/// RMS is met; the share found (`docs/film.md`) is not yet, and is held where it stands.
+/// RMS is met; the share found (`docs/film.md`) is not yet, and is held where it stands. A
+/// weak mark whose hue the codec loses is left behind on the table's grain for frames on end:
+/// the ellipse of the frame before tells it (`phase`), without which this cut gives 1.35 px.
 #[test]
 fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     let t =
@@ -164,7 +166,7 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     let truth = read_recording(&test_data("video/colours-none-phone.truth.csv")).expect("truth");
     let c = compare(&t.recording.frames, &truth.frames);
     assert_eq!(t.report.style, MarkStyle::Colours);
-    assert!(c.rms <= 1.4, "rms {:.3} px", c.rms);
+    assert!(c.rms <= 1.3, "rms {:.3} px", c.rms);
     assert!(c.found >= 0.92, "found {:.1}%", 100.0 * c.found);
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }

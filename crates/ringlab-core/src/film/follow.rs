@@ -9,6 +9,7 @@ use super::centre::{Centre, MAX_WIDTH, Polarity, colour_centre, dot_centre};
 use super::choice::{Choice, blend};
 use super::find::{Found, find_marks_sized};
 use super::frame::{CHROMA_OFFSET, Frame};
+use super::phase::Figure;
 use super::rim::{RingView, rim_centre};
 use super::{MarkStyle, Roi};
 use crate::recording::FrameMarks;
@@ -58,6 +59,8 @@ pub struct Follower {
     choice: Choice,
     /// Times the four were found anew in a frame (after a loss or at the start).
     pub refound: usize,
+    /// The marks' ellipse in the last frame with all four, and that frame.
+    figure: Option<(u64, Figure)>,
 }
 
 const HISTORY: usize = 4;
@@ -149,6 +152,7 @@ impl Follower {
             size,
             choice: Choice::default(),
             refound: 0,
+            figure: None,
         };
         // The strengths and hues by the same measure as later frames.
         for k in 0..4 {
@@ -603,6 +607,17 @@ impl Follower {
             self.by_hue_round_the_ring(frame, index, &mut found);
             self.on_brightness(frame, index, &mut found);
         }
+        // One mark left behind on a look-alike, told by the marks' ellipse a few frames
+        // before (its shape changes little in that time); the tolerance is the parallelogram's
+        // below: the centres' noise and a near camera's departure from an affine figure.
+        if let ([Some(a), Some(b), Some(c), Some(d)], Some((i, fig))) = (found, self.figure)
+            && index - i <= 6
+        {
+            let tolerance = 2.0 + 0.05 * self.size;
+            if let Some(k) = fig.odd_one_out([a, b, c, d].map(|m| [m.x, m.y]), tolerance) {
+                found[k] = None;
+            }
+        }
         // Four points 90 degrees apart on a circle make a parallelogram (nearly, through a
         // near camera): one mark far off it was taken from something else. Which one: the
         // farthest from where it was predicted; with no prediction, none of the four stands.
@@ -660,6 +675,9 @@ impl Follower {
                     m.width = Some(m.width.map_or(c.width, |w| 0.9 * w + 0.1 * c.width));
                 }
             }
+        }
+        if let [Some(a), Some(b), Some(c), Some(d)] = out.marks {
+            self.figure = Figure::from_marks([a, b, c, d]).map(|f| (index, f));
         }
         self.choose_disc(frame, &out.marks);
         if let Some(a) = centre_of(&out.marks) {

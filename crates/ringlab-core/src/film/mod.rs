@@ -13,6 +13,7 @@ pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
+pub mod phase;
 pub mod pose_error;
 pub mod rim;
 pub mod scale;
