@@ -11,8 +11,11 @@ import time
 from conftest import DATA
 
 SCRIPT = f"""
-import sys, time
+import signal, sys, time
 import ringlab
+# Python leaves SIGINT ignored where it started so (a job put in the background by a shell
+# without job control): Ctrl-C is taken as an interactive session takes it.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 rec = ringlab.Recording.read({str(DATA / "independent" / "glitches.csv")!r})
 print("ready", flush=True)
 start = time.perf_counter()
