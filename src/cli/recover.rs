@@ -38,6 +38,7 @@ struct TurnJson {
 struct RecoverReport {
     frames: usize,
     noise_px: Option<f64>,
+    pose_scatter_px: Option<f64>,
     mark_order: &'static str,
     spin: &'static str,
     first_inner_turn: Option<TurnJson>,
@@ -63,6 +64,7 @@ pub fn run(args: &RecoverArgs) -> Result<()> {
     let report = RecoverReport {
         frames: m.frames.len(),
         noise_px: m.noise_px,
+        pose_scatter_px: m.pose_scatter_px,
         mark_order: m.mark_order.name(),
         spin: if m.spin_sign > 0.0 {
             "counter-clockwise seen from above"
@@ -90,10 +92,11 @@ pub fn run(args: &RecoverArgs) -> Result<()> {
     println!("{}: {} frames at {} fps", args.file.display(), report.frames, rec.header.fps);
     println!(
         "pixel noise {}",
-        report
-            .noise_px
-            .map_or("unknown (no frame with a spare mark)".into(), |n| format!("{n:.3} px"))
+        report.noise_px.map_or("unknown (too few marks tracked)".into(), |n| format!("{n:.3} px"))
     );
+    if let Some(note) = m.pose_scatter_note() {
+        println!("{note}");
+    }
     println!("marks numbered {}; the ring spins {}", report.mark_order, report.spin);
     match &report.first_inner_turn {
         Some(t) => println!(

@@ -178,8 +178,11 @@ fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
         row(
             ui,
             "pixel noise",
-            m.noise_px.map_or("unknown".into(), |n| format!("{n:.2} px (from the data)")),
+            m.noise_px.map_or("unknown".into(), |n| format!("{n:.2} px (from the marks' tracks)")),
         );
+        if let Some(note) = m.pose_scatter_note() {
+            row(ui, "pose scatter", note);
+        }
         row(ui, "marks missing", format!("{} of {}", l.marks_missing(), 4 * l.frames().len()));
         let spin = if m.spin_sign > 0.0 { "counter-clockwise" } else { "clockwise" };
         let order = match m.mark_order {

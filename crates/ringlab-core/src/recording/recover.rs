@@ -26,6 +26,7 @@ use super::camera::Camera;
 use super::marks::{MarkGeometry, MarkOrder};
 use super::pose::{PoseFit, fit_pose, initial_pose, point_a};
 use super::smooth::{Extremum, extrema, local_quadratic, smooth};
+use super::tracks::check_tracks;
 use super::{FrameMarks, Recording};
 use crate::physics::model::STATE_LEN;
 use crate::physics::{Body, Conversion, ParamError, TurnKind, Units, paper};
@@ -95,8 +96,14 @@ pub struct DataTurningPoint {
 #[derive(Clone, Debug)]
 pub struct RecoveredMotion {
     pub frames: Vec<FrameMotion>,
-    /// Estimated pixel noise per coordinate (None: no frame had a spare mark).
+    /// Pixel noise per coordinate from each mark's track alone (`tracks::check_tracks`, as the
+    /// fit and the diagnosis judge by; a film tracker's own estimate where larger), else the
+    /// marks' scatter about their poses (None: neither could be estimated).
     pub noise_px: Option<f64>,
+    /// The marks' scatter about each frame's fitted pose, per coordinate (None: no frame had a
+    /// spare mark). Above the noise where the camera is not the flat view the pose assumes
+    /// (a near or tilted camera, a lens).
+    pub pose_scatter_px: Option<f64>,
     pub mark_order: MarkOrder,
     /// +1 when the ring spins counter-clockwise seen from above, -1 clockwise.
     pub spin_sign: f64,
@@ -197,12 +204,17 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
                 theta_sigma: smoothed.value_sigma[0],
             },
         });
-    let rest_from = sigma_mm.and_then(|s| rest_from(&marks_mm, s));
+    // Stillness is a mark staying where it is, which no camera changes: judged by the tracks'
+    // noise, not by the pose's scatter (through a near camera several times larger, which
+    // would call a ring still that still walks).
+    let noise_px = check_tracks(rec).noise.map(|n| n.px).or(sigma_mm.map(|s| s * camera.px_per_mm));
+    let rest_from = noise_px.and_then(|n| rest_from(&marks_mm, n / camera.px_per_mm));
     let spin_sign = spin_sign(&frames, fps);
     let units = Units::dimensionless(body_mm.mean_radius(), paper::g());
     Ok(RecoveredMotion {
         frames,
-        noise_px: sigma_mm.map(|s| s * camera.px_per_mm),
+        noise_px,
+        pose_scatter_px: sigma_mm.map(|s| s * camera.px_per_mm),
         mark_order,
         spin_sign,
         turning_points,
@@ -444,6 +456,17 @@ fn spin_sign(frames: &[FrameMotion], fps: f64) -> f64 {
 }
 
 impl RecoveredMotion {
+    /// A sentence where the marks scatter about their flat poses more than twice the noise.
+    pub fn pose_scatter_note(&self) -> Option<String> {
+        let (noise, scatter) = (self.noise_px?, self.pose_scatter_px?);
+        (scatter > 2.0 * noise).then(|| {
+            format!(
+                "the marks scatter {scatter:.2} px about each frame's flat pose, {:.0} times the noise: the camera is not the flat view the pose assumes (near, tilted, a lens: the diagnosis's camera effects), or the tracker slipped",
+                scatter / noise
+            )
+        })
+    }
+
     /// From mm and s to the model's units.
     pub fn to_model(&self) -> Conversion {
         Conversion::between(Units::MM_S, self.units)

@@ -36,6 +36,13 @@ pub struct AtPoint {
     /// another scheme than the point's ([`BlockProblem::column_residuals`]): that scheme's run
     /// at the point. None: the point's own residuals.
     pub column_base: Option<Vec<f64>>,
+    /// Forward-difference columns of globals that move no run (a camera's numbers, a number
+    /// held at zero), by their index: the point's run seen again, the global stepped by
+    /// [`BlockProblem::global_step`]. Those globals' runs are not made.
+    pub unrun: Vec<(usize, Vec<f64>)>,
+    /// The work the unrun columns' runs would have cost, charged as if they were made
+    /// ([`BlockProblem::charge_deferred`]), so that a budget stops a fit where it did with them.
+    pub deferred_work: u64,
 }
 
 /// Residuals in blocks; each block's length must not depend on the parameters.
@@ -86,6 +93,9 @@ pub trait BlockProblem: Sync {
     /// Called before each batch of parallel evaluations, so that a problem with a shared work
     /// budget decides once per batch whether it is spent, not in the threads' order.
     fn settle(&self) {}
+    /// After the settle that follows [`BlockProblem::at_point`], where the columns' runs would
+    /// be charged: the work of the columns it gave without runs ([`AtPoint::deferred_work`]).
+    fn charge_deferred(&self, _work: u64) {}
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,10 +208,14 @@ fn linearize(
     let at = at?;
     let cheap = at.iter().any(|a| a.column_base.is_some());
     p.settle();
-    // One job per (block, column) left after the symmetry's.
+    p.charge_deferred(at.iter().map(|a| a.deferred_work).sum());
+    // One job per (block, column) left after the symmetry's and the unrun globals'.
+    let given = |s: usize, c: usize| at[s].unrun.iter().any(|(i, _)| *i == c);
     let jobs: Vec<(usize, usize)> = (0..p.block_count())
         .flat_map(|s| {
-            (0..ng + nb).filter(move |&c| c < ng || !sym.contains(&(c - ng))).map(move |c| (s, c))
+            (0..ng + nb)
+                .filter(move |&c| if c < ng { !given(s, c) } else { !sym.contains(&(c - ng)) })
+                .map(move |c| (s, c))
         })
         .collect();
     let results: Option<Vec<(usize, Vec<f64>)>> = jobs
@@ -232,6 +246,9 @@ fn linearize(
         }
         for (&i, col) in sym.iter().zip(at.symmetry) {
             cols[s][ng + i] = col;
+        }
+        for (c, col) in at.unrun {
+            cols[s][c] = col;
         }
     }
     let blocks = base

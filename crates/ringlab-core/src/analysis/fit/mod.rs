@@ -26,6 +26,7 @@ mod driver;
 mod options;
 mod result;
 mod start;
+mod unrun;
 
 pub use driver::fit;
 pub use options::{FIT_THETA_FLAT, FitError, FitOptions, FitProgress, FitStage};

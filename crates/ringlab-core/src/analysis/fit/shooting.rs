@@ -14,6 +14,7 @@ use crate::physics::sample::top_centre;
 use crate::physics::{Model, RunOptions, Sample, Simulation, SlipStart, StateVec};
 use crate::recording::marks::MarkGeometry;
 use crate::recording::{Camera, FrameMarks, MARKS};
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -204,6 +205,20 @@ pub fn predict_with_steps(
     }
 }
 
+/// The model segment `s` runs: the recording's start (held rolling, a slide in progress)
+/// belongs to the first segment only ([`Shooting::samples`]).
+pub(super) fn segment_model(model: &Model, s: usize) -> Cow<'_, Model> {
+    let e = &model.effects;
+    if s > 0 && (e.slip_start != SlipStart::Cone || e.slip_start_velocity != [0.0, 0.0]) {
+        let mut m = model.clone();
+        m.effects.slip_start = SlipStart::Cone;
+        m.effects.slip_start_velocity = [0.0, 0.0];
+        Cow::Owned(m)
+    } else {
+        Cow::Borrowed(model)
+    }
+}
+
 impl<'a> Shooting<'a> {
     /// The same problem, its fits stopped by `cancel` instead (a job's own flag, which a
     /// queue of fits sets once another job's answer makes this one's moot).
@@ -239,7 +254,7 @@ impl<'a> Shooting<'a> {
 
     /// [`Self::project`] of state `y`, its top centre at `a`.
     #[inline]
-    fn project_at(
+    pub(super) fn project_at(
         &self,
         geometry: &MarkGeometry,
         camera: &Camera,
@@ -289,20 +304,9 @@ impl<'a> Shooting<'a> {
                 ended_early: false,
             };
         }
-        let later;
-        let model = if s > 0
-            && (model.effects.slip_start != SlipStart::Cone
-                || model.effects.slip_start_velocity != [0.0, 0.0])
-        {
-            let mut m = model.clone();
-            m.effects.slip_start = SlipStart::Cone;
-            m.effects.slip_start_velocity = [0.0, 0.0];
-            later = m;
-            &later
-        } else {
-            model
-        };
-        let p = predict_with_steps(model, &self.run, self.dt, y0, self.segments[s].clone(), choice);
+        let model = segment_model(model, s);
+        let p =
+            predict_with_steps(&model, &self.run, self.dt, y0, self.segments[s].clone(), choice);
         if let Some(b) = &self.budget {
             b.charge(p.steps);
         }
@@ -397,6 +401,11 @@ impl BlockProblem for Shooting<'_> {
     fn settle(&self) {
         self.settle_budget();
     }
+    fn charge_deferred(&self, work: u64) {
+        if let Some(b) = &self.budget {
+            b.charge(work);
+        }
+    }
     fn global_step(&self, i: usize, value: f64) -> f64 {
         self.spec.step(i, value)
     }
@@ -490,15 +499,64 @@ impl Shooting<'_> {
         // formula along its steps (`dp5_along`), against that formula's own run at the point.
         // A slip run switches contact and an early end freezes frames, which those steps do
         // not carry: their columns follow with DOP853 as before.
-        let column_base = (cheap && model.effects.slip_mu.is_none() && !run.ended_early)
-            .then(|| self.segment_residuals_along(s, global, local, &step_ends))
+        let along = (cheap && model.effects.slip_mu.is_none() && !run.ended_early)
+            .then(|| self.run_along(&model, s, &y0, &step_ends))
             .flatten();
-        Some(AtPoint { symmetry: cols.to_vec(), step_ends: Some(step_ends), column_base })
+        let by_along = along.is_some();
+        let (seen, work) = along.unwrap_or_else(|| {
+            (samples.iter().map(|x| ([x.x_a, x.y_a], x.y)).collect(), run.steps)
+        });
+        let column_base =
+            by_along.then(|| self.residuals_of(s, &self.seen_through(&geometry, &camera, &seen)));
+        let unrun = self.unrun_columns(s, global, &model, &camera, &seen)?;
+        Some(AtPoint {
+            symmetry: cols.to_vec(),
+            step_ends: Some(step_ends),
+            column_base,
+            deferred_work: work * unrun.len() as u64,
+            unrun,
+        })
+    }
+
+    /// The marks of the points `seen` (top centre, state) through `camera`.
+    pub(super) fn seen_through(
+        &self,
+        geometry: &MarkGeometry,
+        camera: &Camera,
+        seen: &[([f64; 2], StateVec)],
+    ) -> PredictedMarks {
+        seen.iter().map(|(a, y)| self.project_at(geometry, camera, *a, y)).collect()
+    }
+
+    /// A run of `model` over segment `s` from `y0` by a fifth-order formula along `ends`
+    /// ([`dp5_along`]): each frame's top centre and state, and its steps, charged to the
+    /// budget a step per end as the run it follows; None where it fails or the budget is
+    /// spent.
+    fn run_along(
+        &self,
+        model: &Model,
+        s: usize,
+        y0: &StateVec,
+        ends: &[f64],
+    ) -> Option<(Vec<([f64; 2], StateVec)>, u64)> {
+        if self.budget.as_ref().is_some_and(|b| b.spent()) {
+            return None;
+        }
+        let range = self.segments[s].clone();
+        let t0 = range.start as f64 * self.dt;
+        let (states, steps) = dp5_along(model, t0, *y0, ends, self.dt, range.len())?;
+        if let Some(b) = &self.budget {
+            b.charge(steps);
+        }
+        let seen = states.iter().map(|y| {
+            let (x_a, y_a) = top_centre(&model.body, y);
+            ([x_a, y_a], *y)
+        });
+        Some((seen.collect(), steps))
     }
 
     /// Residuals of segment `s` from a run by a fifth-order formula along `ends`
-    /// ([`dp5_along`]), charged to the budget a step per end as the run it follows; None
-    /// where that run fails or the budget is spent.
+    /// ([`Self::run_along`]).
     fn segment_residuals_along(
         &self,
         s: usize,
@@ -506,26 +564,11 @@ impl Shooting<'_> {
         state: &[f64],
         ends: &[f64],
     ) -> Option<Vec<f64>> {
-        if self.budget.as_ref().is_some_and(|b| b.spent()) {
-            return None;
-        }
         let (model, camera) = self.spec.build(global)?;
         let y0: StateVec = state.try_into().ok()?;
-        let range = self.segments[s].clone();
-        let t0 = range.start as f64 * self.dt;
-        let (states, steps) = dp5_along(&model, t0, y0, ends, self.dt, range.len())?;
-        if let Some(b) = &self.budget {
-            b.charge(steps);
-        }
+        let (seen, _) = self.run_along(&model, s, &y0, ends)?;
         let geometry = self.geometry_of(&model);
-        let marks: PredictedMarks = states
-            .iter()
-            .map(|y| {
-                let (x_a, y_a) = top_centre(&model.body, y);
-                self.project_at(&geometry, &camera, [x_a, y_a], y)
-            })
-            .collect();
-        Some(self.residuals_of(s, &marks))
+        Some(self.residuals_of(s, &self.seen_through(&geometry, &camera, &seen)))
     }
 }
 
