@@ -50,17 +50,23 @@ fn app() -> RinglabApp {
     app
 }
 
+/// The window of `size` points with `path` dropped onto it, tracked and shown.
+fn dropped_on_the_window(path: PathBuf, size: [f32; 2]) -> Harness<'static, RinglabApp> {
+    let mut h = Harness::builder()
+        .with_size(size)
+        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app());
+    h.run_steps(2);
+    h.input_mut().dropped_files.push(Arc::new(Dropped(path)));
+    h.run_steps(3);
+    h
+}
+
 #[test]
 fn a_dropped_film_is_tracked_and_its_frame_shown() {
     if !have_ffmpeg() {
         return;
     }
-    let mut h = Harness::builder()
-        .with_size([1480.0, 920.0])
-        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app());
-    h.run_steps(2);
-    h.input_mut().dropped_files.push(Arc::new(Dropped(film())));
-    h.run_steps(3);
+    let mut h = dropped_on_the_window(film(), [1480.0, 920.0]);
     let app = h.state();
     assert!(app.recording.error.is_none(), "{:?}", app.recording.error);
     assert_eq!(app.side_tab, SideTab::Recording);
@@ -80,6 +86,23 @@ fn a_dropped_film_is_tracked_and_its_frame_shown() {
     h.state_mut().player.seek(later);
     h.run_steps(2);
     assert_eq!(h.state().film_frame_shown(), Some(k + 40));
+}
+
+/// On a laptop's screen the recording's facts wrap in the side panel: the long notes of a film
+/// through a near camera once widened it over the view and pushed the film out of the window.
+#[test]
+fn the_film_shows_beside_the_facts_in_a_small_window() {
+    if !have_ffmpeg() {
+        return;
+    }
+    let near = film().with_file_name("dark-perspective-start.mp4");
+    let h = dropped_on_the_window(near, [1280.0, 720.0]);
+    let k = h.state().film_frame_shown().expect("a frame shown");
+    let frame = h.get_by_label(&format!("film frame {k}")).rect();
+    let facts = h.get_by_label("pixel noise").rect();
+    assert!(facts.right() < 320.0, "the side panel ends at {}", facts.right());
+    assert!(frame.left() > facts.right() && frame.right() < 1280.0, "the film at {frame:?}");
+    assert!(frame.width() > 200.0, "the film {} points wide", frame.width());
 }
 
 #[test]
@@ -216,12 +239,7 @@ fn the_film_is_tracked_again_with_the_frames_given() {
     if !have_ffmpeg() {
         return;
     }
-    let mut h = Harness::builder()
-        .with_size([1480.0, 920.0])
-        .build_ui_state(|ui, app: &mut RinglabApp| app.ui_root(ui), app());
-    h.run_steps(2);
-    h.input_mut().dropped_files.push(Arc::new(Dropped(film())));
-    h.run_steps(3);
+    let mut h = dropped_on_the_window(film(), [1480.0, 920.0]);
     let whole = h.state().recording.loaded().expect("tracked").frames().len();
     h.get_by_label("Tracking").click();
     h.run_steps(2);

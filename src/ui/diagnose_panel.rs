@@ -103,57 +103,61 @@ fn result_ui(
         ),
     };
     ui.label(RichText::new(headline).strong().size(15.0).color(colour));
-    egui::Grid::new("diagnosis-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
-        let window = r.mismatch.as_ref().map_or("none beyond the noise".to_string(), |m| {
-            format!(
-                "{:.2} s to {:.2} s of the recording ({:.2} px rms there)",
-                m.start_s, m.end_s, m.rms_px
-            )
+    egui::Grid::new("diagnosis-facts")
+        .num_columns(2)
+        .spacing([10.0, 2.0])
+        .max_col_width(super::recording_panel::value_width(ui))
+        .show(ui, |ui| {
+            let window = r.mismatch.as_ref().map_or("none beyond the noise".to_string(), |m| {
+                format!(
+                    "{:.2} s to {:.2} s of the recording ({:.2} px rms there)",
+                    m.start_s, m.end_s, m.rms_px
+                )
+            });
+            row(ui, "mismatch", window);
+            let noise_from = match (&r.noise_correlation, r.noise_from_marks) {
+                (Some(c), _) => format!(
+                    "from the tracks, {:.3} px read, corrected: correlated {:.2} frame to frame",
+                    c.tracks_px,
+                    c.rho.get(1).copied().unwrap_or(0.0)
+                ),
+                (None, true) => "from the tracks".to_string(),
+                (None, false) => "from the fit".to_string(),
+            };
+            row(ui, "pixel noise", format!("{:.3} px ({noise_from})", r.noise_px));
+            row(ui, "glitches", format!("{} mark positions left out", r.glitches.len()));
+            row(ui, "misfit", format!("{:.3} px -> {:.3} px", r.before.rms_px, r.after.rms_px));
+            row(
+                ui,
+                "beyond the noise",
+                format!(
+                    "{:.3} px -> {:.3} px",
+                    r.excess_px(r.before.rms_px),
+                    r.excess_px(r.after.rms_px)
+                ),
+            );
+            for (kind, (v, s)) in
+                r.after.also.iter().copied().chain(r.after.strength.map(|s| (r.after.effect, s)))
+            {
+                row(ui, kind.parameter(), pm(v, s));
+            }
+            if let Some((v, s)) = r.after.tilt_deg {
+                row(ui, "camera tilt (deg)", pm(v, s));
+            }
+            // Which speed the fitted Re follows: 0 the centre's (the paper's), 1 the rim's.
+            if let Some((v, s)) = r.after.rim_share {
+                row(ui, "Re speed: rim share", pm(v, s));
+            }
+            for i in 0..3 {
+                row(ui, &format!("C{}", i + 1), pm(r.after.c[i], r.after.c_sigma[i]));
+            }
+            row(ui, "frames", format!("{} of {} fitted", r.frames_fitted, r.frames));
+            // The compute time varies from run to run: on hover only (pictures stay the same).
+            ui.label(RichText::new("candidates").small());
+            ui.label(RichText::new(format!("{} ranked by BIC", r.candidates.len())))
+                .on_hover_text(format!("the diagnosis took {:.1} s", r.compute_seconds));
+            ui.end_row();
         });
-        row(ui, "mismatch", window);
-        let noise_from = match (&r.noise_correlation, r.noise_from_marks) {
-            (Some(c), _) => format!(
-                "from the tracks, {:.3} px read, corrected: correlated {:.2} frame to frame",
-                c.tracks_px,
-                c.rho.get(1).copied().unwrap_or(0.0)
-            ),
-            (None, true) => "from the tracks".to_string(),
-            (None, false) => "from the fit".to_string(),
-        };
-        row(ui, "pixel noise", format!("{:.3} px ({noise_from})", r.noise_px));
-        row(ui, "glitches", format!("{} mark positions left out", r.glitches.len()));
-        row(ui, "misfit", format!("{:.3} px -> {:.3} px", r.before.rms_px, r.after.rms_px));
-        row(
-            ui,
-            "beyond the noise",
-            format!(
-                "{:.3} px -> {:.3} px",
-                r.excess_px(r.before.rms_px),
-                r.excess_px(r.after.rms_px)
-            ),
-        );
-        for (kind, (v, s)) in
-            r.after.also.iter().copied().chain(r.after.strength.map(|s| (r.after.effect, s)))
-        {
-            row(ui, kind.parameter(), pm(v, s));
-        }
-        if let Some((v, s)) = r.after.tilt_deg {
-            row(ui, "camera tilt (deg)", pm(v, s));
-        }
-        // Which speed the fitted Re follows: 0 the centre's (the paper's), 1 the rim's.
-        if let Some((v, s)) = r.after.rim_share {
-            row(ui, "Re speed: rim share", pm(v, s));
-        }
-        for i in 0..3 {
-            row(ui, &format!("C{}", i + 1), pm(r.after.c[i], r.after.c_sigma[i]));
-        }
-        row(ui, "frames", format!("{} of {} fitted", r.frames_fitted, r.frames));
-        // The compute time varies from run to run: on hover only (pictures stay the same).
-        ui.label(RichText::new("candidates").small());
-        ui.label(RichText::new(format!("{} ranked by BIC", r.candidates.len())))
-            .on_hover_text(format!("the diagnosis took {:.1} s", r.compute_seconds));
-        ui.end_row();
-    });
     ui.add_space(4.0);
     let mut asked = None;
     ui.horizontal_wrapped(|ui| {

@@ -120,6 +120,12 @@ pub fn recording_panel_ui(
     action
 }
 
+/// The wrapping width of a facts grid's values: what the side panel leaves beside the keys
+/// (a long note would otherwise widen the panel over the view and the film).
+pub(super) fn value_width(ui: &egui::Ui) -> f32 {
+    (ui.available_width() - 100.0).max(120.0)
+}
+
 fn row(ui: &mut egui::Ui, key: &str, value: String) {
     ui.label(RichText::new(key).small());
     ui.label(RichText::new(value).small());
@@ -139,66 +145,75 @@ fn short_number(x: f64) -> String {
 fn facts_ui(ui: &mut egui::Ui, l: &LoadedRecording, offset_s: f64) {
     let h = &l.recording.header;
     let m = &l.motion;
-    egui::Grid::new("recording-facts").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
-        row(
-            ui,
-            "frames",
-            format!("{} at {} fps ({:.2} s)", l.frames().len(), h.fps, l.duration_s()),
-        );
-        let read = &l.import;
-        if read.source != Source::Ringlab {
+    egui::Grid::new("recording-facts")
+        .num_columns(2)
+        .spacing([10.0, 2.0])
+        .max_col_width(value_width(ui))
+        .show(ui, |ui| {
             row(
                 ui,
-                "read as",
-                format!("{}; marks 1-4: {}", read.source.name(), read.marks.join(", ")),
+                "frames",
+                format!("{} at {} fps ({:.2} s)", l.frames().len(), h.fps, l.duration_s()),
             );
-            if read.low_likelihood > 0 {
+            let read = &l.import;
+            if read.source != Source::Ringlab {
                 row(
                     ui,
-                    "dropped",
-                    format!("{} points below the likelihood threshold", read.low_likelihood),
+                    "read as",
+                    format!("{}; marks 1-4: {}", read.source.name(), read.marks.join(", ")),
+                );
+                if read.low_likelihood > 0 {
+                    row(
+                        ui,
+                        "dropped",
+                        format!("{} points below the likelihood threshold", read.low_likelihood),
+                    );
+                }
+            }
+            for n in &read.notes {
+                row(ui, "note", n.clone());
+            }
+            let wall = h.thickness_mm.map(|w| format!(", wall {w} mm")).unwrap_or_default();
+            row(
+                ui,
+                "body",
+                format!(
+                    "{}, outer radius {} mm, width {} mm{wall}",
+                    h.shape.name(),
+                    h.outer_radius_mm,
+                    h.width_mm
+                ),
+            );
+            row(ui, "scale", format!("{} px/mm", short_number(h.px_per_mm)));
+            row(
+                ui,
+                "pixel noise",
+                m.noise_px
+                    .map_or("unknown".into(), |n| format!("{n:.2} px (from the marks' tracks)")),
+            );
+            if let Some(note) = m.pose_scatter_note() {
+                row(ui, "pose scatter", note);
+            }
+            row(ui, "marks missing", format!("{} of {}", l.marks_missing(), 4 * l.frames().len()));
+            let spin = if m.spin_sign > 0.0 { "counter-clockwise" } else { "clockwise" };
+            let order = match m.mark_order {
+                MarkOrder::Forward => "clockwise",
+                MarkOrder::Reverse => "counter-clockwise",
+            };
+            row(ui, "spin (from above)", format!("{spin}; marks numbered {order}"));
+            row(ui, "turning points", format!("{} of theta", m.turning_points.len()));
+            if let Some(p) = m.first_inner_turn {
+                row(
+                    ui,
+                    "first inner turn",
+                    format!("frame {:.1} (theta {:.3} rad)", p.at, p.theta),
                 );
             }
-        }
-        for n in &read.notes {
-            row(ui, "note", n.clone());
-        }
-        let wall = h.thickness_mm.map(|w| format!(", wall {w} mm")).unwrap_or_default();
-        row(
-            ui,
-            "body",
-            format!(
-                "{}, outer radius {} mm, width {} mm{wall}",
-                h.shape.name(),
-                h.outer_radius_mm,
-                h.width_mm
-            ),
-        );
-        row(ui, "scale", format!("{} px/mm", short_number(h.px_per_mm)));
-        row(
-            ui,
-            "pixel noise",
-            m.noise_px.map_or("unknown".into(), |n| format!("{n:.2} px (from the marks' tracks)")),
-        );
-        if let Some(note) = m.pose_scatter_note() {
-            row(ui, "pose scatter", note);
-        }
-        row(ui, "marks missing", format!("{} of {}", l.marks_missing(), 4 * l.frames().len()));
-        let spin = if m.spin_sign > 0.0 { "counter-clockwise" } else { "clockwise" };
-        let order = match m.mark_order {
-            MarkOrder::Forward => "clockwise",
-            MarkOrder::Reverse => "counter-clockwise",
-        };
-        row(ui, "spin (from above)", format!("{spin}; marks numbered {order}"));
-        row(ui, "turning points", format!("{} of theta", m.turning_points.len()));
-        if let Some(p) = m.first_inner_turn {
-            row(ui, "first inner turn", format!("frame {:.1} (theta {:.3} rad)", p.at, p.theta));
-        }
-        if let Some(r) = m.rest_from {
-            row(ui, "at rest from", format!("frame {r} ({:.2} s)", r as f64 / l.fps()));
-        }
-        row(ui, "model's t = 0", format!("{offset_s:.3} s into the recording"));
-    });
+            if let Some(r) = m.rest_from {
+                row(ui, "at rest from", format!("frame {r} ({:.2} s)", r as f64 / l.fps()));
+            }
+            row(ui, "model's t = 0", format!("{offset_s:.3} s into the recording"));
+        });
 }
 
 /// The fit's numbers; true when "use the fitted model" was clicked.
@@ -212,36 +227,48 @@ fn fit_ui(ui: &mut egui::Ui, f: &Fitted, in_use: bool) -> bool {
         }
     };
     let per_s = 1.0 / r.units.time_s;
-    egui::Grid::new("fit-results").num_columns(2).spacing([10.0, 2.0]).show(ui, |ui| {
-        for i in 0..3 {
-            row(ui, &format!("C{}", i + 1), pm(r.c[i], r.c_sigma[i]));
-        }
-        row(ui, "theta0", format!("{:.4} rad", r.start.theta));
-        row(
-            ui,
-            "phi'0",
-            format!("{:.4} rad/T ({:.2} rad/s)", r.start.phi_dot, r.start.phi_dot * per_s),
-        );
-        row(
-            ui,
-            "psi'0",
-            format!("{:.4} rad/T ({:.2} rad/s)", r.start.psi_dot, r.start.psi_dot * per_s),
-        );
-        row(
-            ui,
-            "start",
-            format!("frame {:.2} ({:.4} s)", r.start_frame, r.start_t * r.units.time_s),
-        );
-        let noise = r.noise_px.map(|n| format!(" (noise {n:.3} px)")).unwrap_or_default();
-        row(ui, "misfit", format!("{:.3} px rms{noise}", r.rms_px));
-        row(ui, "frames fitted", format!("{} in {} segments", r.frames_fitted, r.segments.len()));
-        // The compute time varies from run to run: on hover only (pictures stay the same).
-        ui.label(RichText::new("iterations").small());
-        ui.label(RichText::new(r.iterations.to_string()).small())
-            .on_hover_text(format!("the fit took {:.1} s", r.compute_seconds));
-        ui.end_row();
-        row(ui, "units", format!("T = {:.5} s, L = {:.2} mm", r.units.time_s, r.units.length_mm));
-    });
+    egui::Grid::new("fit-results")
+        .num_columns(2)
+        .spacing([10.0, 2.0])
+        .max_col_width(value_width(ui))
+        .show(ui, |ui| {
+            for i in 0..3 {
+                row(ui, &format!("C{}", i + 1), pm(r.c[i], r.c_sigma[i]));
+            }
+            row(ui, "theta0", format!("{:.4} rad", r.start.theta));
+            row(
+                ui,
+                "phi'0",
+                format!("{:.4} rad/T ({:.2} rad/s)", r.start.phi_dot, r.start.phi_dot * per_s),
+            );
+            row(
+                ui,
+                "psi'0",
+                format!("{:.4} rad/T ({:.2} rad/s)", r.start.psi_dot, r.start.psi_dot * per_s),
+            );
+            row(
+                ui,
+                "start",
+                format!("frame {:.2} ({:.4} s)", r.start_frame, r.start_t * r.units.time_s),
+            );
+            let noise = r.noise_px.map(|n| format!(" (noise {n:.3} px)")).unwrap_or_default();
+            row(ui, "misfit", format!("{:.3} px rms{noise}", r.rms_px));
+            row(
+                ui,
+                "frames fitted",
+                format!("{} in {} segments", r.frames_fitted, r.segments.len()),
+            );
+            // The compute time varies from run to run: on hover only (pictures stay the same).
+            ui.label(RichText::new("iterations").small());
+            ui.label(RichText::new(r.iterations.to_string()).small())
+                .on_hover_text(format!("the fit took {:.1} s", r.compute_seconds));
+            ui.end_row();
+            row(
+                ui,
+                "units",
+                format!("T = {:.5} s, L = {:.2} mm", r.units.time_s, r.units.length_mm),
+            );
+        });
     ui.label(
         RichText::new(if in_use {
             "The simulator runs the fitted model from the fitted start (the Model tab's sliders hold it)."

@@ -45,6 +45,8 @@ if [ "${1:-}" = "--test-cut" ]; then
     shared=${2:-$here/../../../../shared/data/video}
     stand_in "$shared" colours-none 300 539 28 "$here/colours-none-phone"
     stand_in "$shared" disk-dark-none 0 535 28 "$here/disk-dark-none-phone"
+    stand_in "$shared" colours-none 249 848 28 "$here/colours-none-phone-long"
+    stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone"
     exit 0
 fi
 

@@ -443,6 +443,11 @@ fn assemble(
         centre,
     );
     let mut notes = Vec::new();
+    let mut ring_scale = ring_scale;
+    if let Some(rs) = ring_scale.as_mut() {
+        let size = [info.width as f64, info.height as f64];
+        notes.extend(pose_error::check_near_camera(rs, &frames, size, mark_radius_mm(body)));
+    }
     let px_per_mm = match (opts.px_per_mm, &ring_scale) {
         (Some(s), Some(rs)) => {
             let off = rs.px_per_mm / s - 1.0;
@@ -509,7 +514,6 @@ fn assemble(
     // The scale's own spread over the frames misses a bias the four centres share (each
     // pulled out or in from A by its neighbourhood alike): one centre's error over the
     // marks' radius bounds it.
-    let mut ring_scale = ring_scale;
     if let (Some(rs), Some(e)) = (ring_scale.as_mut(), tracker_sigma_px) {
         rs.sigma = rs.sigma.hypot(e / mark_radius_mm(body));
     }

@@ -8,6 +8,8 @@
 //! `sqrt(sum / 2)` is one centre's error per coordinate. The camera's tilt and a small error
 //! in its distance hardly move that residual: the pose absorbs them.
 
+use super::error::closure_sigma;
+use super::scale::RingScale;
 use crate::recording::{Camera, FrameMarks};
 use nalgebra::{SMatrix, SVector};
 
@@ -38,6 +40,32 @@ pub fn pinhole_closure_sigma(
     let spread = sorted[sorted.len() / 2] / 1.1774;
     let kept: Vec<f64> = per_frame.into_iter().filter(|g| *g <= 5.0 * spread.max(1e-6)).collect();
     Some((kept.iter().map(|g| g * g).sum::<f64>() / kept.len() as f64).sqrt())
+}
+
+/// Whether the near camera a growing scale implies is believed: through it the marks' figure
+/// must close clearly better than through a far one ([`RingScale::check_figure`]). A growth
+/// that frames sharing their errors fake (strong compression) implies a camera that does not.
+/// The note where it is not believed.
+pub fn check_near_camera(
+    rs: &mut RingScale,
+    frames: &[FrameMarks],
+    image_size: [f64; 2],
+    radius_mm: f64,
+) -> Option<String> {
+    let t = rs.table?;
+    let camera = Camera {
+        distance_mm: Some(t.camera_distance_mm),
+        ..Camera::centred(t.px_per_mm, image_size[0], image_size[1])
+    };
+    let near = pinhole_closure_sigma(frames, &camera, radius_mm)?;
+    let far = closure_sigma(frames)?;
+    rs.check_figure(near, far);
+    (!rs.camera_is_near()).then(|| {
+        format!(
+            "the marks' scale grows with their height as through a camera {:.0} mm away, but such a camera leaves the marks' figure {near:.2} px against {far:.2} px far away: not clearly better, so the camera is taken as far, and the scale as the marks' own ({:.4} px/mm, holding {:.1} mm above the table; give --px-per-mm where the camera is near)",
+            t.camera_distance_mm, rs.px_per_mm, rs.height_mm
+        )
+    })
 }
 
 /// The four marks of a pose: centre, normal's polar and azimuth angles, turn; `hand` +1 or -1

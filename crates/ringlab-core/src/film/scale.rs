@@ -28,7 +28,15 @@ pub struct RingScale {
     /// A near camera: the scale at the table under the image centre (px per mm), its standard
     /// error and the camera's distance (mm) from the second-order fit.
     pub table: Option<TableScale>,
+    /// One centre's error (px per coordinate) that the marks' figure leaves through that near
+    /// camera and through a far one ([`RingScale::check_figure`]).
+    pub figure_px: Option<(f64, f64)>,
 }
+
+/// How much better than a far camera a near one must close the marks' figure to be believed:
+/// a true near camera closes it to well under this, a growth faked by errors that frames share
+/// (strong compression) to about as well as a far one (docs/film.md has the figures).
+pub const NEAR_FIGURE_GAIN: f64 = 0.7;
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TableScale {
@@ -38,9 +46,26 @@ pub struct TableScale {
 }
 
 impl RingScale {
-    /// Whether the scale grows with the marks' height beyond its noise: a near camera.
-    pub fn camera_is_near(&self) -> bool {
+    /// Whether the scale grows with the marks' height beyond its noise.
+    pub fn grows_with_height(&self) -> bool {
         self.growth_per_mm > 4.0 * self.growth_sigma && self.growth_per_mm > 2e-4
+    }
+
+    /// A near camera: the scale grows with the marks' height, and the camera that growth
+    /// implies closes the marks' figure clearly better than a far one, where that was checked.
+    pub fn camera_is_near(&self) -> bool {
+        self.grows_with_height()
+            && self.figure_px.is_none_or(|(near, far)| near < NEAR_FIGURE_GAIN * far)
+    }
+
+    /// Records the marks' figure through the near camera and a far one (one centre's error
+    /// each, px); where the near camera does not close it clearly better, the camera is taken
+    /// as far (the growth came from errors that frames share) and its table scale dropped.
+    pub fn check_figure(&mut self, near_px: f64, far_px: f64) {
+        self.figure_px = Some((near_px, far_px));
+        if !self.camera_is_near() {
+            self.table = None;
+        }
     }
 }
 
@@ -111,8 +136,9 @@ pub fn ring_scale(
         growth_per_mm: slope / px_per_mm,
         growth_sigma: slope_sigma / px_per_mm,
         table: None,
+        figure_px: None,
     };
-    if scale.camera_is_near() {
+    if scale.grows_with_height() {
         let rows: Vec<(f64, f64, [f64; 2])> = keep.iter().map(|&i| (s[i], z[i], at[i])).collect();
         scale.table = table_scale(&rows, independent);
     }

@@ -11,7 +11,7 @@
 //! The stages ([`fit`], `driver.rs`): the motion recovered and the start reconstructed, a
 //! coarse drag grid scored on phase-free features ([`coarse`]), each segment's state, then
 //! Levenberg-Marquardt on everything ([`lm`]: derivative columns along the kept steps of the
-//! run at the point, [`last_runs`]), the segments merged pairwise while the misfit allows
+//! run at the point, [`last_runs`]; a camera's numbers' columns without a run, `unrun.rs`), the segments merged pairwise while the misfit allows
 //! ([`FitOptions::merges`]): longer segments carry more of the drag's effect, but a model that
 //! is not quite the ring's follows the data over short segments only. Runs off the UI thread
 //! with a progress callback and a cancel flag. Figures: `docs/recordings.md`.
