@@ -109,9 +109,10 @@ fn recovers_the_sample_motion_within_its_uncertainties() {
     assert!((y[5] - y_true[5]).abs() / y_true[5] < 0.05, "w3 {} vs {}", y[5], y_true[5]);
 }
 
-/// Stillness is judged by the tracks' noise, which no camera changes: through a near, tilted
-/// or distorting camera the marks scatter about their flat poses several times the noise, and
-/// judged by that scatter a ring still walking slowly was called still up to 15 frames early.
+/// Stillness is judged by a still mark's jitter, not by the camera: through a near, tilted or
+/// distorting camera the marks scatter about their flat poses several times the noise, and
+/// judged by all of that scatter a ring still walking slowly was called still up to 15 frames
+/// early (now the scatter counts up to twice the tracks' noise).
 #[test]
 fn the_still_end_through_a_camera_that_is_not_flat_is_where_the_ring_stops() {
     let truth: serde_json::Value = serde_json::from_str(
@@ -124,7 +125,7 @@ fn the_still_end_through_a_camera_that_is_not_flat_is_where_the_ring_stops() {
         let t_end = truth[name]["t_end"].as_f64().unwrap();
         let stops = (t_end * m.units.time_s * rec.header.fps).floor() as i64;
         let rest = m.rest_from.expect("the ring stops") as i64;
-        assert!((rest - stops).abs() <= 2, "{name}: still from frame {rest}, stops at {stops}");
+        assert!((rest - stops).abs() <= 3, "{name}: still from frame {rest}, stops at {stops}");
         let (noise, scatter) = (m.noise_px.unwrap(), m.pose_scatter_px.unwrap());
         assert!(noise < 0.55 && scatter > 1.5, "{name}: noise {noise} px, scatter {scatter} px");
         assert!(m.pose_scatter_note().is_some(), "{name}: the scatter is pointed out");

@@ -204,11 +204,18 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
                 theta_sigma: smoothed.value_sigma[0],
             },
         });
-    // Stillness is a mark staying where it is, which no camera changes: judged by the tracks'
-    // noise, not by the pose's scatter (through a near camera several times larger, which
-    // would call a ring still that still walks).
-    let noise_px = check_tracks(rec).noise.map(|n| n.px).or(sigma_mm.map(|s| s * camera.px_per_mm));
-    let rest_from = noise_px.and_then(|n| rest_from(&marks_mm, n / camera.px_per_mm));
+    let tracks_px = check_tracks(rec).noise.map(|n| n.px);
+    let scatter_px = sigma_mm.map(|s| s * camera.px_per_mm);
+    let noise_px = tracks_px.or(scatter_px);
+    // A still mark jitters by all of its noise: the scatter about the poses holds a tracker's
+    // noise correlated in time, which the tracks' differences miss. Beyond twice the tracks'
+    // noise the scatter is the camera's (a near or tilted camera, a lens), not jitter, and
+    // judged by it a ring still walking slowly was called still.
+    let still_px = match (tracks_px, scatter_px) {
+        (Some(t), Some(s)) => Some(s.max(t).min(2.0 * t)),
+        (t, s) => t.or(s),
+    };
+    let rest_from = still_px.and_then(|n| rest_from(&marks_mm, n / camera.px_per_mm));
     let spin_sign = spin_sign(&frames, fps);
     let units = Units::dimensionless(body_mm.mean_radius(), paper::g());
     Ok(RecoveredMotion {
