@@ -485,18 +485,19 @@ fn a_short_slide_goes_on_from_the_start_that_fits_the_segments_best() {
     assert_slip_found_at_its_mu(7, &DiagnoseOptions::default());
 }
 
-/// Slip that alone fits worse than the baseline (the bench's `pair:slip+camera_perspective`,
-/// seed 12, chosen because it shows this: through the orthographic camera slip alone ends at
-/// 13.1 px against the baseline's 9.8), where the segments see the pinhole: slip is fitted
-/// through that camera before any pair is walked from the baseline's path, settles the
-/// recording, and no such pair is fitted (they took 40 s here).
+/// Slip and a pinhole (the bench's `pair:slip+camera_perspective`, seed 12), where the segments
+/// see the pinhole: slip is fitted through that camera before any pair is walked from the
+/// baseline's path, settles the recording, and no such pair is fitted (they took 40 s here).
+/// The seed was chosen because slip alone fitted worse than the baseline there (13.1 px against
+/// 9.8); since its still end is found where the ring stops (1b49f28), its last frames fitted,
+/// slip alone fits better (7.4 px against 9.8), and the path through the camera is tested
+/// without that case.
 #[test]
 fn slip_is_fitted_through_the_camera_the_segments_see_before_the_pairs() {
     let rec = family_recording(Family::Pair(EffectKind::Slip, EffectKind::CameraPerspective), 12)
         .expect("a concealed pair");
     let (d, messages) = diagnose_with_messages(&rec);
-    let slip = d.candidates.iter().find(|c| c.effect == EffectKind::Slip).expect("ranked");
-    assert!(slip.delta_score > 0.0, "slip alone must fit worse here: {}", slip.delta_score);
+    assert!(d.candidates.iter().any(|c| c.effect == EffectKind::Slip), "slip ranked");
     assert_named(&d, &[EffectKind::CameraPerspective, EffectKind::Slip]);
     assert!(d.after.rms_px < 1.05 * d.noise_px, "left {} px", d.after.rms_px);
     assert!(
