@@ -202,6 +202,10 @@ fn says_none_without_an_effect_and_reports_its_progress() {
     assert!(d.mismatch.is_none() && d.windows.is_empty(), "{:?}", d.mismatch);
     assert!(d.before.rms_px < 1.05 * d.noise_px);
     assert!(d.candidates.iter().all(|c| c.delta_score > -d.evidence), "{:?}", d.candidates);
+    // Slip does not nest this baseline (its rolling run needs more friction than any `mu`
+    // allows): its path ends at its first stage, not in a blind refit over the whole run.
+    let slip = d.candidates.iter().find(|c| c.effect == EffectKind::Slip).expect("slip ranked");
+    assert!(slip.stopped_at_segments.is_some(), "{slip:?}");
     let seen = seen.into_inner().unwrap();
     assert!(seen.iter().all(|(_, f)| (0.0..=1.0).contains(f)));
     assert!(matches!(seen.first(), Some((DiagnoseStage::BaselineFit(_), _))));

@@ -11,12 +11,14 @@
 //! side valley: the baseline is refitted from the best candidate's drag and start, so that
 //! "before" is the baseline at its best and not one that stopped early; and a candidate nests
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
-//! baseline is refitted from the baseline's solution.
+//! baseline is refitted from the baseline's solution. Slip nests it only where the rolling run
+//! never needs more friction than `mu` allows; where its run from the baseline's solution
+//! starts above the path's ceiling, its path ends at its first stage instead.
 
 use super::result::{STAGE_CEILING, extras_of};
 use super::whole::{
-    LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost, with_effect,
-    with_effects,
+    LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost,
+    stopped_at_stage, with_effect, with_effects,
 };
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
@@ -139,7 +141,18 @@ pub fn fit_candidate(
     let (first, mut sh) = first;
     let segments = sh.segments.len();
     let mut fit = if segments > 1 && first.cost > baseline.cost {
-        refit_from(ms, kind, baseline, near_baseline_strength(kind, mu_max))?
+        let strength = near_baseline_strength(kind, mu_max);
+        // Slip nests the baseline only where the baseline's run never needs more friction
+        // than `mu` allows; where it does, its run from the baseline's solution starts far
+        // above the ceiling, and a single-shooting fit from there walks blind for seconds to
+        // a misfit hundreds of noise levels up: the path ends at its first stage instead.
+        if first.cost > ceiling(segments)
+            && refit_start_cost(ms, kind, baseline, strength) > STAGE_CEILING * baseline.cost
+        {
+            stopped_at_stage(&sh, first)?
+        } else {
+            refit_from(ms, kind, baseline, strength)?
+        }
     } else {
         if segments > 1 {
             sh.segments = sh.segments.chunks(2).map(|p| p[0].start..p[p.len() - 1].end).collect();

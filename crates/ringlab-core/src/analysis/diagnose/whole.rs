@@ -188,12 +188,7 @@ pub fn fit_path(
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
     let clock = std::time::Instant::now();
-    let kinds: Vec<EffectKind> = sh
-        .spec
-        .free
-        .iter()
-        .filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None })
-        .collect();
+    let kinds = fitted_kinds(sh);
     let kind = kinds.last().copied().unwrap_or(EffectKind::None);
     let walked = walk(sh, global, states, ceiling, on_iteration, kind)?;
     let mut fit = whole_fit(&walked, &kinds)?;
@@ -254,10 +249,7 @@ fn walk<'a>(
             return Ok(Walked { sh, sol, levels, iterations, stopped_at: None });
         }
         if sol.cost > ceiling(segments) {
-            sh.segments = vec![sh.segments[0].start..sh.segments[segments - 1].end];
-            let start: Vec<f64> = sol.local.first().cloned().ok_or(LmError::BadStart)?;
-            let cost = segment_cost(&sh, &sol.global, &as_states(std::slice::from_ref(&start)));
-            let sol = lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol };
+            let sol = over_the_whole_span(&mut sh, sol)?;
             return Ok(Walked { sh, sol, levels, iterations, stopped_at: Some(segments) });
         }
         previous = Some((sol.cost, sol.residual_count, sh.spec.fitted_count() + 8 * segments));
@@ -265,6 +257,39 @@ fn walk<'a>(
         locals = sol.local.iter().step_by(2).cloned().collect();
         global = sol.global;
     }
+}
+
+/// A path stopped at the stage `sh` holds (solved as `sol`): that stage's globals run over the
+/// whole span from its first segment's state, without uncertainties (as [`fit_path`] ends a
+/// stage above its ceiling).
+pub fn stopped_at_stage(sh: &Shooting, sol: lm::LmSolution) -> Result<WholeFit, LmError> {
+    let mut sh = sh.clone();
+    let stopped_at = Some(sh.segments.len());
+    let iterations = sol.iterations;
+    let sol = over_the_whole_span(&mut sh, sol)?;
+    let walked = Walked { sh, sol, levels: Vec::new(), iterations, stopped_at };
+    whole_fit(&walked, &fitted_kinds(&walked.sh))
+}
+
+/// `sol`'s globals and first segment's state as one segment over all of `sh`'s, and its cost.
+fn over_the_whole_span(sh: &mut Shooting, sol: lm::LmSolution) -> Result<lm::LmSolution, LmError> {
+    let (first, last) = match (sh.segments.first(), sh.segments.last()) {
+        (Some(a), Some(b)) => (a.start, b.end),
+        _ => return Err(LmError::BadStart),
+    };
+    sh.segments = vec![first..last];
+    let start: Vec<f64> = sol.local.first().cloned().ok_or(LmError::BadStart)?;
+    let cost = segment_cost(sh, &sol.global, &as_states(std::slice::from_ref(&start)));
+    Ok(lm::LmSolution { local: vec![start], cost, global_cov_unscaled: None, ..sol })
+}
+
+/// The effects `sh` fits, in order.
+fn fitted_kinds(sh: &Shooting) -> Vec<EffectKind> {
+    sh.spec
+        .free
+        .iter()
+        .filter_map(|f| if let Free::Effect(k) = f { Some(*k) } else { None })
+        .collect()
 }
 
 /// The segments merged pairwise (an odd last one alone).
