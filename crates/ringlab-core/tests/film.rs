@@ -156,9 +156,11 @@ fn the_opening_of_a_film_is_tracked_from_its_first_frame() {
 
 /// A phone's film: `colours-none` at 2 px per mm, 240 frames/s, crf 28 (`make-phone.sh`),
 /// where a coloured mark is about one chroma sample. The goal is 1.4 px and 98% found: the
-/// RMS is met; the share found (`docs/film.md`) is not yet, and is held where it stands. A
+/// RMS is met; the share found (`docs/film.md`) is not, and is held where it stands. A
 /// weak mark whose hue the codec loses is left behind on the table's grain for frames on end:
-/// the ellipse of the frame before tells it (`phase`), without which this cut gives 1.35 px.
+/// the ellipse of the frame before tells it (`phase`), without which this cut gives 1.35 px;
+/// and a chroma centre the film showed to err more than the brightness's is left out where
+/// the brightness centre cannot be had (1.222 px and 92.8% found with it kept).
 #[test]
 fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     let t =
@@ -166,8 +168,8 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     let truth = read_recording(&test_data("video/colours-none-phone.truth.csv")).expect("truth");
     let c = compare(&t.recording.frames, &truth.frames);
     assert_eq!(t.report.style, MarkStyle::Colours);
-    assert!(c.rms <= 1.3, "rms {:.3} px", c.rms);
-    assert!(c.found >= 0.92, "found {:.1}%", 100.0 * c.found);
+    assert!(c.rms <= 1.18, "rms {:.3} px", c.rms);
+    assert!(c.found >= 0.88, "found {:.1}%", 100.0 * c.found);
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }
 
@@ -192,14 +194,17 @@ fn small_strongly_compressed_dots_give_their_scale_from_the_ring() {
 /// Phones' films at 2 px per mm and crf 28 (`make-phone.sh --test-cut`). Far away, the marks'
 /// errors, shared by frames on end, can make their scale grow with their height as a near
 /// camera's does; the camera that growth implies does not close the marks' figure better than
-/// a far one, so the camera is far and the scale the marks' own (it was written 9% low).
+/// a far one, so the camera is far and the scale the marks' own (it was written 9-19% low).
 /// Through the near camera at the same quality the figure closes, and the camera stays near.
+/// (`colours-none-phone-long` faked the growth too until its weak marks' chroma centres alone
+/// were left out; it is checked for its scale only.)
 #[test]
 fn a_far_phones_compressed_film_is_not_taken_for_a_near_camera() {
-    let far = run(&test_data("video/colours-none-phone-long.mp4"), &options(steel_ring()))
-        .expect("tracks");
-    let truth =
-        read_recording(&test_data("video/colours-none-phone-long.truth.csv")).expect("truth");
+    let far =
+        run(&test_data("video/colours-reynolds-flicker-phone-long.mp4"), &options(steel_ring()))
+            .expect("tracks");
+    let truth = read_recording(&test_data("video/colours-reynolds-flicker-phone-long.truth.csv"))
+        .expect("truth");
     let s = far.report.ring_scale.as_ref().expect("a scale");
     assert!(s.grows_with_height(), "the growth this film fakes: {s:?}");
     let (near_px, far_px) = s.figure_px.expect("the figure checked");
@@ -208,6 +213,15 @@ fn a_far_phones_compressed_film_is_not_taken_for_a_near_camera() {
     let k = truth.header.px_per_mm;
     assert!((far.report.px_per_mm / k - 1.0).abs() < 0.01, "{} against {k}", far.report.px_per_mm);
     assert!(far.report.notes.iter().any(|n| n.contains("taken as far")), "{:?}", far.report.notes);
+
+    let other = run(&test_data("video/colours-none-phone-long.mp4"), &options(steel_ring()))
+        .expect("tracks");
+    let truth =
+        read_recording(&test_data("video/colours-none-phone-long.truth.csv")).expect("truth");
+    let s = other.report.ring_scale.as_ref().expect("a scale");
+    assert!(!s.camera_is_near() && s.table.is_none(), "{s:?}");
+    let (got, k) = (other.report.px_per_mm, truth.header.px_per_mm);
+    assert!((got / k - 1.0).abs() < 0.01, "{got} against {k}");
 
     let near = run(&test_data("video/dark-perspective-phone.mp4"), &options(steel_ring()))
         .expect("tracks");

@@ -47,6 +47,7 @@ if [ "${1:-}" = "--test-cut" ]; then
     stand_in "$shared" disk-dark-none 0 535 28 "$here/disk-dark-none-phone"
     stand_in "$shared" colours-none 249 848 28 "$here/colours-none-phone-long"
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone"
+    stand_in "$shared" colours-reynolds-flicker 249 848 28 "$here/colours-reynolds-flicker-phone-long"
     exit 0
 fi
 

@@ -552,12 +552,23 @@ impl Follower {
             let xy = |c: Centre| [c.x, c.y];
             self.choice.add([a, b, c, d].map(xy), [e, f, g, h].map(xy));
         }
+        // Brightness centres missing for two marks or more put the figure they were sought on
+        // in doubt, not the marks.
+        let unplaced = (0..4).filter(|&k| found[k].is_some() && on_luma[k].is_none()).count();
         for k in 0..4 {
-            if let (Some(c), Some(l)) = (found[k].as_mut(), on_luma[k]) {
-                let w = if c.coarse { 1.0 } else { self.choice.second(k) };
-                [c.x, c.y] = blend([c.x, c.y], [l.x, l.y], w);
-                c.sigma = (1.0 - w) * c.sigma + w * l.sigma;
-                c.coarse = false;
+            let w = self.choice.second(k);
+            match (found[k].as_mut(), on_luma[k]) {
+                (Some(c), Some(l)) => {
+                    let w = if c.coarse { 1.0 } else { w };
+                    [c.x, c.y] = blend([c.x, c.y], [l.x, l.y], w);
+                    c.sigma = (1.0 - w) * c.sigma + w * l.sigma;
+                    c.coarse = false;
+                }
+                // The film showed this mark's chroma centre to err more than its brightness
+                // centre; without the latter here, the former alone is left out (a weak mark's
+                // hue stuck on the table's grain while the ring turns on).
+                (Some(c), None) if w >= 0.5 && unplaced == 1 => c.coarse = true,
+                _ => {}
             }
             found[k] = found[k].filter(|c| !c.coarse);
         }
@@ -643,13 +654,20 @@ impl Follower {
                 }
             }
         }
-        // Two marks in one place: neither can be trusted.
+        // Two marks in one place: neither can be trusted. In one place: closer than half the
+        // least distance the ring's recent figure allows them (adjacent marks sqrt(2) times its
+        // semi-minor axis apart at the least, opposite ones twice it).
         let near = if self.style == MarkStyle::Colours { 1.5 } else { self.disc.max(2.0) };
+        let minor = self.figure.filter(|(i, _)| index - i <= 6).map(|(_, f)| f.minor_axis());
+        let apart = |i: usize, j: usize| {
+            let least = if (j - i) % 2 == 1 { std::f64::consts::SQRT_2 } else { 2.0 };
+            minor.map_or(near, |b| near.max(0.5 * least * b))
+        };
         let mut ambiguous = [false; 4];
         for i in 0..4 {
             for j in i + 1..4 {
                 if let (Some(a), Some(b)) = (found[i], found[j])
-                    && (a.x - b.x).hypot(a.y - b.y) < near
+                    && (a.x - b.x).hypot(a.y - b.y) < apart(i, j)
                 {
                     ambiguous[i] = true;
                     ambiguous[j] = true;

@@ -26,6 +26,12 @@ impl Figure {
         Some(Figure { from_circle, to_circle })
     }
 
+    /// The ellipse's semi-minor axis (px).
+    pub fn minor_axis(&self) -> f64 {
+        let (u, v) = (self.from_circle.column(0), self.from_circle.column(1));
+        super::find::ellipse_axes([u.x, u.y], [v.x, v.y]).1
+    }
+
     /// The mark (0-3) more than `tolerance_px` from where the other three put it on this
     /// figure's ellipse (its centre halfway between the mark's two neighbours, its phase the
     /// others'), while those three sit within half of it of their own places.
