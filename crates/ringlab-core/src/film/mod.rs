@@ -13,6 +13,7 @@ pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
+pub mod lost;
 pub mod phase;
 pub mod pose_error;
 pub mod rim;
@@ -531,6 +532,7 @@ fn assemble(
             "a near camera whose distance is not known well enough (the table's scale within 2%) for the marks' figure to check the centres' error: the error said is the pixels' noise alone".into(),
         );
     }
+    notes.extend(lost::lost_note(&frames, opts.from_frame, style));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut extra = vec![
         ("tracked_from".to_string(), name),
