@@ -81,6 +81,12 @@ pub fn describe(t: &TrackedFilm) -> Vec<String> {
             "centre's error from the pixels' noise (median, px per coordinate), marks 1-4: {sig}"
         ),
     ];
+    if r.renumbered_after_loss > 0 {
+        out.push(format!(
+            "dots found again after {} losses numbered as before from the ring's turning across each",
+            r.renumbered_after_loss
+        ));
+    }
     if let Some(s) = &r.ring_scale {
         out.push(format!(
             "scale from the ring: {:.4} +- {:.4} px/mm over {} frames, holding {:.1} mm above the table{}",

@@ -6,13 +6,22 @@
 #   make-phone.sh OUTDIR [SHARED]     every stand-in of docs/film.md, at crf 23 and 28, in OUTDIR
 #   make-phone.sh --test-cut [SHARED] the small cuts the tests keep (tests/data/video/)
 #
+# COVER (optional, "A B"): frames A..B of the cut covered whole in grey (a hand before the
+# lens), the truth's marks hidden there.
 # A pixel's centre is at integer coordinates in the truth as in the tracker, so a centre
 # scaled by s is (x + 0.5) s - 0.5, as the scale filter maps pixels.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 
-# stand_in SHARED NAME FIRST LAST CRF OUT: frames FIRST..LAST of NAME as OUT.mp4, OUT.truth.csv
+# stand_in SHARED NAME FIRST LAST CRF OUT [COVER]: frames FIRST..LAST of NAME as OUT.mp4,
+# OUT.truth.csv
 stand_in() {
+    cover_from=$(echo "${7:-}" | awk '{print ($1 == "" ? -1 : $1)}')
+    cover_to=$(echo "${7:-}" | awk '{print ($2 == "" ? -1 : $2)}')
+    cover=""
+    if [ "$cover_from" -ge 0 ]; then
+        cover=",drawbox=x=0:y=0:w=iw:h=ih:color=0x7f7f7f:t=fill:enable='between(n,$cover_from,$cover_to)'"
+    fi
     src="$1/$2.mp4"
     truth="$1/$2.truth.csv"
     scale=$(awk -F'= *' '/^# px_per_mm/ {print $2}' "$truth")
@@ -22,10 +31,10 @@ stand_in() {
     nw=$(awk -v w="$w" -v s="$scale" 'BEGIN {printf "%d", int(w * 2 / s / 2 + 0.5) * 2}')
     nh=$(awk -v h="$h" -v s="$scale" 'BEGIN {printf "%d", int(h * 2 / s / 2 + 0.5) * 2}')
     ffmpeg -loglevel error -y -i "$src" \
-        -vf "select='between(n,$3,$4)',scale=$nw:$nh:flags=area,setpts=N/240/TB" \
+        -vf "select='between(n,$3,$4)',scale=$nw:$nh:flags=area,setpts=N/240/TB$cover" \
         -r 240 -c:v libx264 -crf "$5" -pix_fmt yuv420p "$6.mp4"
     awk -F, -v OFS=, -v first="$3" -v last="$4" \
-        -v w="$w" -v h="$h" -v nw="$nw" -v nh="$nh" '
+        -v w="$w" -v h="$h" -v nw="$nw" -v nh="$nh" -v ca="$cover_from" -v cb="$cover_to" '
         BEGIN { fx = nw / w; fy = nh / h }
         /^# px_per_mm/ { split($0, a, "= *"); printf "# px_per_mm = %.6f\n", a[2] * (fx + fy) / 2; next }
         /^# fps/ { print "# fps = 240"; next }
@@ -34,7 +43,7 @@ stand_in() {
         /^#/ || /^frame/ { print; next }
         $1 >= first && $1 <= last {
             $1 = $1 - first
-            for (i = 2; i <= 9; i++) if ($i != "") {
+            for (i = 2; i <= 9; i++) if ($1 >= ca && $1 <= cb) $i = ""; else if ($i != "") {
                 $i = sprintf("%.2f", ($i + 0.5) * (i % 2 == 0 ? fx : fy) - 0.5)
             }
             print
@@ -48,6 +57,7 @@ if [ "${1:-}" = "--test-cut" ]; then
     stand_in "$shared" colours-none 249 848 28 "$here/colours-none-phone-long"
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone"
     stand_in "$shared" colours-reynolds-flicker 249 848 28 "$here/colours-reynolds-flicker-phone-long"
+    stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone-covered" "300 359"
     exit 0
 fi
 

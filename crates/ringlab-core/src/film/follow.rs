@@ -22,6 +22,9 @@ pub struct FrameResult {
     pub sigma: [Option<f64>; 4],
     /// Marks left out because another mark claimed the same place.
     pub ambiguous: usize,
+    /// Dots found anew with no mark followed: their numbering is a guess until the ring's
+    /// turning settles it (`join`).
+    pub new_numbering: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -216,7 +219,8 @@ impl Follower {
 
     /// The four found anew near where the ring was last, numbered as before: colours by their
     /// hue; dots by the rotation of the numbers that puts them nearest where they were last,
-    /// where one rotation is clearly the best.
+    /// where one rotation is clearly the best, else as found (dots found anew with no mark
+    /// followed are numbered again from the ring's turning afterwards: `join`).
     fn find_again(&self, frame: &Frame, index: u64) -> Option<Found> {
         let last: Vec<(usize, [f64; 2])> = (0..4)
             .filter_map(|k| {
@@ -269,13 +273,13 @@ impl Follower {
             }
             s
         };
-        if self.style != MarkStyle::Colours && last.len() < 2 {
-            return None;
-        }
         let mut costs: Vec<(f64, usize)> = (0..4).map(|r| (cost(r), r)).collect();
         costs.sort_by(|a, b| a.0.total_cmp(&b.0));
         if costs[0].0 > 0.5 * costs[1].0 {
-            return None;
+            if self.style == MarkStyle::Colours {
+                return None;
+            }
+            costs[0].1 = 0;
         }
         let mut marks = found.marks;
         marks.rotate_left(costs[0].1);
@@ -577,7 +581,9 @@ impl Follower {
     /// One frame: the marks found in it.
     pub fn step(&mut self, frame: &Frame, index: u64) -> FrameResult {
         let mut found: [Option<Centre>; 4] = [None; 4];
-        if (0..4).filter(|&k| self.moving(k, index)).count() < 2 {
+        let mut new_numbering = false;
+        let moving = (0..4).filter(|&k| self.moving(k, index)).count();
+        if moving < 2 {
             // Motion not known well enough to predict: the four found anew near the ring,
             // kept only where each lies within reach of where a mark still followed predicts it.
             if let Some(again) = self.find_again(frame, index) {
@@ -589,6 +595,12 @@ impl Follower {
                 });
                 if agrees {
                     self.refound += 1;
+                    // Seen within two frames, the nearest rotation holds (the ring turns less
+                    // than an eighth of a turn in two frames); longer, the turning settles it.
+                    let last_seen =
+                        self.marks.iter().filter_map(|m| m.history.last()).map(|h| h.0).max();
+                    new_numbering =
+                        self.style != MarkStyle::Colours && last_seen.is_none_or(|i| index - i > 2);
                     for k in 0..4 {
                         found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
                     }
@@ -674,7 +686,7 @@ impl Follower {
                 }
             }
         }
-        let mut out = FrameResult::default();
+        let mut out = FrameResult { new_numbering, ..FrameResult::default() };
         for k in 0..4 {
             if ambiguous[k] {
                 found[k] = None;

@@ -1,9 +1,7 @@
 //! Where the ring was lost: the longest stretch of frames without a single mark, said in the
 //! report where it is a large part of the film, so that a recording that is mostly empty is
-//! never taken for a tracked one. Identical dots lost for long are not numbered again (their
-//! identity comes from continuity alone), so the note says why for them.
+//! never taken for a tracked one.
 
-use super::MarkStyle;
 use crate::recording::FrameMarks;
 
 /// A stretch without marks is told where it is at least this many frames...
@@ -13,7 +11,7 @@ const MIN_SHARE: f64 = 0.1;
 
 /// The note on the longest stretch of `frames` (numbered from `first_frame`) without a mark,
 /// where it is long enough to tell; `None` otherwise.
-pub fn lost_note(frames: &[FrameMarks], first_frame: u64, style: MarkStyle) -> Option<String> {
+pub fn lost_note(frames: &[FrameMarks], first_frame: u64) -> Option<String> {
     let (mut best, mut run_start) = (0..0, None);
     for (i, f) in frames.iter().enumerate() {
         let empty = f.iter().all(Option::is_none);
@@ -39,13 +37,8 @@ pub fn lost_note(frames: &[FrameMarks], first_frame: u64, style: MarkStyle) -> O
     }
     let (a, b) = (first_frame + best.start as u64, first_frame + best.end as u64 - 1);
     let until = if best.end == frames.len() { "to the end".to_string() } else { format!("to {b}") };
-    let why = if style == MarkStyle::Colours {
-        ""
-    } else {
-        ": identical dots lost for more than a few frames are not numbered again (their identity comes from continuity alone)"
-    };
     Some(format!(
-        "no mark found from frame {a} {until} ({} frames, {:.0}% of the film): the ring was lost there{why}",
+        "no mark found from frame {a} {until} ({} frames, {:.0}% of the film): the ring was lost there",
         best.len(),
         100.0 * share
     ))
@@ -62,14 +55,12 @@ mod tests {
     #[test]
     fn a_ring_lost_for_good_is_told_and_a_short_loss_is_not() {
         let lost = film(|i| i < 15, 200);
-        let note = lost_note(&lost, 100, MarkStyle::Dark).expect("told");
+        let note = lost_note(&lost, 100).expect("told");
         assert!(note.contains("from frame 115 to the end (185 frames, 92%"), "{note}");
-        assert!(note.contains("identical dots"), "{note}");
         let gap = film(|i| !(50..90).contains(&i), 200);
-        let note = lost_note(&gap, 0, MarkStyle::Colours).expect("told");
+        let note = lost_note(&gap, 0).expect("told");
         assert!(note.contains("from frame 50 to 89 (40 frames, 20%"), "{note}");
-        assert!(!note.contains("identical dots"), "{note}");
-        assert_eq!(lost_note(&film(|i| !(50..70).contains(&i), 200), 0, MarkStyle::Dark), None);
-        assert_eq!(lost_note(&film(|i| !(50..90).contains(&i), 1000), 0, MarkStyle::Dark), None);
+        assert_eq!(lost_note(&film(|i| !(50..70).contains(&i), 200), 0), None);
+        assert_eq!(lost_note(&film(|i| !(50..90).contains(&i), 1000), 0), None);
     }
 }

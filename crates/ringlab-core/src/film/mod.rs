@@ -13,6 +13,7 @@ pub mod error;
 pub mod find;
 pub mod follow;
 pub mod frame;
+pub mod join;
 pub mod lost;
 pub mod phase;
 pub mod pose_error;
@@ -215,6 +216,10 @@ pub struct TrackReport {
     pub left_out_ambiguous: usize,
     /// Times the ring was lost and found again.
     pub reacquired: usize,
+    /// Dots found anew after a loss and numbered again from the ring's turning (`join`).
+    pub renumbered_after_loss: usize,
+    /// Marks left out because their numbering could not be carried across a loss.
+    pub left_out_unnumbered: usize,
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
@@ -300,6 +305,8 @@ pub fn track(
     let mut acquirer = acquire::Acquirer::default();
     let mut acquired_at = None;
     let mut ambiguous = 0usize;
+    // Slots where dots were found anew after a loss, numbered by a guess.
+    let mut new_numbering = Vec::new();
     let mut index = opts.from_frame;
     loop {
         if opts.to_frame.is_some_and(|to| index > to) {
@@ -339,13 +346,18 @@ pub fn track(
             Some(f) => f.step(&frame, index),
         };
         ambiguous += result.ambiguous;
+        if result.new_numbering {
+            new_numbering.push(frames.len());
+        }
         frames.push(result.marks);
         sigma.push(result.sigma);
         index += 1;
         progress(index - opts.from_frame, total);
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
-    assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, ambiguous, reacquired)
+    let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
+    let counts = Counts { ambiguous, reacquired, joined };
+    assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
 }
 
 /// Follows the ring from the first frame of the run that acquired it (`acquire`) through the
@@ -409,6 +421,13 @@ fn tell_style(
     Ok(None)
 }
 
+/// What the tracking counted on the way.
+struct Counts {
+    ambiguous: usize,
+    reacquired: usize,
+    joined: join::Joined,
+}
+
 #[allow(clippy::too_many_arguments)]
 fn assemble(
     path: &Path,
@@ -419,9 +438,9 @@ fn assemble(
     acquired_at: Option<u64>,
     frames: Vec<FrameMarks>,
     sigma: Vec<[Option<f64>; 4]>,
-    ambiguous: usize,
-    reacquired: usize,
+    counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
+    let Counts { ambiguous, reacquired, joined } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -532,7 +551,15 @@ fn assemble(
             "a near camera whose distance is not known well enough (the table's scale within 2%) for the marks' figure to check the centres' error: the error said is the pixels' noise alone".into(),
         );
     }
-    notes.extend(lost::lost_note(&frames, opts.from_frame, style));
+    notes.extend(lost::lost_note(&frames, opts.from_frame));
+    if joined.unsettled > 0 {
+        notes.push(format!(
+            "the dots were found anew after {} of {} losses but the ring's turning could not say which is which there: {} marks left out",
+            joined.unsettled,
+            joined.unsettled + joined.settled,
+            joined.marks_left_out
+        ));
+    }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut extra = vec![
         ("tracked_from".to_string(), name),
@@ -581,6 +608,8 @@ fn assemble(
         marks_found,
         left_out_ambiguous: ambiguous,
         reacquired,
+        renumbered_after_loss: joined.settled,
+        left_out_unnumbered: joined.marks_left_out,
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
