@@ -595,12 +595,13 @@ impl Follower {
                 });
                 if agrees {
                     self.refound += 1;
-                    // Seen within two frames, the nearest rotation holds (the ring turns less
-                    // than an eighth of a turn in two frames); longer, the turning settles it.
+                    // Seen in the frame before, the nearest rotation holds; after a frame
+                    // unseen the ring may have turned an eighth of a turn (an opening on
+                    // edge): the turning settles it.
                     let last_seen =
                         self.marks.iter().filter_map(|m| m.history.last()).map(|h| h.0).max();
                     new_numbering =
-                        self.style != MarkStyle::Colours && last_seen.is_none_or(|i| index - i > 2);
+                        self.style != MarkStyle::Colours && last_seen.is_none_or(|i| index - i > 1);
                     for k in 0..4 {
                         found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
                     }

@@ -554,10 +554,8 @@ fn assemble(
     notes.extend(lost::lost_note(&frames, opts.from_frame));
     if joined.unsettled > 0 {
         notes.push(format!(
-            "the dots were found anew after {} of {} losses but the ring's turning could not say which is which there: {} marks left out",
-            joined.unsettled,
-            joined.unsettled + joined.settled,
-            joined.marks_left_out
+            "{} marks left out in {} stretches after a loss: dots found anew there that the ring's turning across the loss could not number as the rest",
+            joined.marks_left_out, joined.unsettled
         ));
     }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
