@@ -33,8 +33,10 @@ struct MarkState {
     history: Vec<(u64, [f64; 2])>,
     /// Typical strength of this mark when seen.
     strength: f64,
-    /// Colour marks: the hue (radians in the Cb, Cr plane).
+    /// Colour marks: the hue (radians in the Cb, Cr plane): the medoid of `hues`.
     hue: f64,
+    /// Colour marks: the hues it showed where the four were found together, newest last.
+    hues: Vec<f64>,
     /// Colour marks: the blob's typical fitted width (px); `None` until first fitted.
     width: Option<f64>,
 }
@@ -67,6 +69,9 @@ pub struct Follower {
 }
 
 const HISTORY: usize = 4;
+/// Colours: the hues a mark showed when found anew, kept for its own (their medoid): one from
+/// a blur (the ring acquired on edge) or a look-alike does not carry it.
+const HUES: usize = 9;
 /// Colours: the brightness centre may lie this far (px) from the chroma's.
 const REACH: f64 = 3.0;
 /// A coloured mark's blob may be fitted up to this many times its typical width.
@@ -78,6 +83,20 @@ const DISC_MARGINS: [f64; DISCS] = [0.25, 0.75, 1.25, 1.75, 2.5];
 const DISCS: usize = 5;
 /// Frames of the running sums' memory.
 const DISC_MEMORY: f64 = 100.0;
+
+/// The angle of `angles` nearest the others in all (the median of a circle's values); of
+/// those as near, the first: two values keep the older.
+fn medoid(angles: &[f64]) -> f64 {
+    let spread = |a: f64| angles.iter().map(|&b| angle_between(a, b)).sum::<f64>();
+    let mut best = (f64::INFINITY, 0.0);
+    for &a in angles {
+        let s = spread(a);
+        if s < best.0 - 1e-9 {
+            best = (s, a);
+        }
+    }
+    best.1
+}
 
 fn angle_between(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(std::f64::consts::TAU);
@@ -130,6 +149,7 @@ impl Follower {
             history: vec![(index, [c.x, c.y])],
             strength: 0.0,
             hue: c.chroma[1].atan2(c.chroma[0]),
+            hues: Vec::new(),
             width: None,
         });
         let d1 = [
@@ -157,17 +177,9 @@ impl Follower {
             refound: 0,
             figure: None,
         };
-        // The strengths and hues by the same measure as later frames.
         for k in 0..4 {
-            if let Some(c) = f.centre_at(frame, found.marks[k].x, found.marks[k].y, k, 4.0) {
-                f.marks[k].strength = c.strength;
+            if let Some(c) = f.learn(frame, &found.marks[k], k) {
                 f.marks[k].history = vec![(index, [c.x, c.y])];
-                if style == MarkStyle::Colours {
-                    f.marks[k].hue = c.chroma[1].atan2(c.chroma[0]);
-                    f.marks[k].width = Some(c.width);
-                }
-            } else {
-                f.marks[k].strength = found.marks[k].strength;
             }
         }
         let first: FrameMarks = std::array::from_fn(|k| Some(f.marks[k].history[0].1));
@@ -175,6 +187,33 @@ impl Follower {
             f.centres.push((index, a));
         }
         f
+    }
+
+    /// Mark `k`'s strength and, for colours, its hue and width, learnt from a mark found
+    /// (`c`) by the same measure as later frames.
+    fn learn(&mut self, frame: &Frame, c: &super::find::Candidate, k: usize) -> Option<Centre> {
+        self.marks[k].strength = c.strength;
+        let centre = self.centre_at(frame, c.x, c.y, k, 4.0)?;
+        let m = &mut self.marks[k];
+        m.strength = centre.strength;
+        if self.style == MarkStyle::Colours {
+            m.width = Some(centre.width);
+        }
+        self.learn_hue(&centre, k);
+        Some(centre)
+    }
+
+    /// Colours: the hue mark `k` showed (`centre`) added to those it is known by.
+    fn learn_hue(&mut self, centre: &Centre, k: usize) {
+        if self.style != MarkStyle::Colours {
+            return;
+        }
+        let m = &mut self.marks[k];
+        m.hues.push(centre.chroma[1].atan2(centre.chroma[0]));
+        if m.hues.len() > HUES {
+            m.hues.remove(0);
+        }
+        m.hue = medoid(&m.hues);
     }
 
     /// Where each mark was last found.
@@ -603,7 +642,14 @@ impl Follower {
                     new_numbering =
                         self.style != MarkStyle::Colours && last_seen.is_none_or(|i| index - i > 1);
                     for k in 0..4 {
-                        found[k] = self.look(frame, k, [again.marks[k].x, again.marks[k].y], 3.0);
+                        // Colours found anew in a clear order show their hues again: those
+                        // learnt where the ring was acquired may be a blur's (an opening on
+                        // edge), far enough off for every later frame to turn the mark down.
+                        let at = [again.marks[k].x, again.marks[k].y];
+                        if let Some(c) = self.centre_at(frame, at[0], at[1], k, 4.0) {
+                            self.learn_hue(&c, k);
+                        }
+                        found[k] = self.look(frame, k, at, 3.0);
                     }
                 }
             }
@@ -709,6 +755,8 @@ impl Follower {
         }
         if let [Some(a), Some(b), Some(c), Some(d)] = out.marks {
             self.figure = Figure::from_marks([a, b, c, d]).map(|f| (index, f));
+            let half = |p: [f64; 2], q: [f64; 2]| [(p[0] - q[0]) / 2.0, (p[1] - q[1]) / 2.0];
+            self.size = super::find::ellipse_axes(half(a, c), half(b, d)).0;
         }
         self.choose_disc(frame, &out.marks);
         if let Some(a) = centre_of(&out.marks) {

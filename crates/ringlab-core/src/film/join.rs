@@ -181,13 +181,6 @@ pub fn settle(before: &[(f64, f64)], after: &[(f64, f64)]) -> Option<i64> {
         })
         .collect();
     scores.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if std::env::var_os("RINGLAB_JOIN_DEBUG").is_some() {
-        eprintln!(
-            "join {t_before:.0}->{t_after:.0} noise {:.4} scores {:?}",
-            noise.sqrt(),
-            &scores[..3]
-        );
-    }
     let (best, second) = (scores.first()?, scores.get(1)?);
     (second.0 >= DOUBT && second.0 >= CLEAR * best.0).then_some(best.1)
 }
