@@ -62,7 +62,7 @@ fn figure(f: &Found) -> ([f64; 2], f64) {
 
 /// Two frames' fours are one ring: sizes within the centres' error and a little more (a near
 /// camera's size changes slowly), centres within a quarter of the size (the ring's motion).
-fn agree(a: &Found, b: &Found) -> bool {
+pub fn agree(a: &Found, b: &Found) -> bool {
     let ((ca, sa), (cb, sb)) = (figure(a), figure(b));
     let size = sa.max(sb);
     (sa - sb).abs() <= 0.05 * size + 0.5 && (ca[0] - cb[0]).hypot(ca[1] - cb[1]) <= 0.25 * size

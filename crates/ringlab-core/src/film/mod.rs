@@ -20,6 +20,7 @@ pub mod pose_error;
 pub mod rim;
 pub mod scale;
 pub mod source;
+pub mod style;
 
 pub use frame::Frame;
 pub use scale::RingScale;
@@ -293,7 +294,7 @@ pub fn track(
     let range = semi_major_range(opts, &info);
     let mut style = opts.style;
     if style == MarkStyle::Auto
-        && let Some(told) = tell_style(path, opts, &roi, range, cancel)?
+        && let Some(told) = style::tell_style(path, opts, &roi, range, cancel)?
     {
         style = told;
     }
@@ -389,36 +390,6 @@ fn follow_run(
     }
     result.ambiguous = ambiguous;
     (f, result)
-}
-
-/// The marks' style, told from the first frames before tracking: colours where four blobs
-/// of four hues make the marks' figure in any of them (a ring on edge at the start may hide
-/// them in the first), else the first of dark and bright dots that one of them shows. `None`:
-/// none showed in [`ACQUIRE_FRAMES`] frames (the tracking then says so).
-fn tell_style(
-    path: &Path,
-    opts: &TrackOptions,
-    roi: &Roi,
-    range: (f64, f64),
-    cancel: &AtomicBool,
-) -> Result<Option<MarkStyle>, FilmError> {
-    for candidate in [MarkStyle::Colours, MarkStyle::Dark, MarkStyle::Bright] {
-        let mut source = FilmSource::open(path)?;
-        source.skip(opts.from_frame)?;
-        let mut frame = Frame::default();
-        for _ in 0..ACQUIRE_FRAMES {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(FilmError::new(path, FilmErrorKind::Cancelled));
-            }
-            if !source.next_frame(&mut frame)? {
-                break;
-            }
-            if find::find_marks(&frame, roi, candidate, range).is_some() {
-                return Ok(Some(candidate));
-            }
-        }
-    }
-    Ok(None)
 }
 
 /// What the tracking counted on the way.
