@@ -173,6 +173,28 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }
 
+/// A phone held upright stores its frames on their side with a rotation to show them by,
+/// which ffmpeg applies as it decodes (`make-phone.sh --test-cut`: the cut above, tagged a
+/// quarter turn). The film is tracked as it is shown: its frames 608 wide and 760 high, a
+/// mark at (x, y) of the stored frame at (y, 759 - x). It was read as 760x608 before, every
+/// frame garbled (10% of the marks found, all of them off).
+#[test]
+fn a_film_from_a_phone_held_upright_is_tracked_as_it_is_shown() {
+    let t = run(&test_data("video/colours-none-phone-upright.mp4"), &options(steel_ring()))
+        .expect("tracks");
+    assert_eq!((t.report.width_px, t.report.height_px), (608, 760));
+    assert_eq!(t.recording.header.image_width_px, Some(608.0));
+    let mut truth =
+        read_recording(&test_data("video/colours-none-phone.truth.csv")).expect("truth");
+    for p in truth.frames.iter_mut().flatten().flatten() {
+        *p = [p[1], 759.0 - p[0]];
+    }
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert!(c.rms <= 1.18, "rms {:.3} px", c.rms);
+    assert!(c.found >= 0.88, "found {:.1}%", 100.0 * c.found);
+    assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
+}
+
 /// A disk's dots at 2 px per mm and crf 28 (`make-phone.sh --test-cut`): with no scale given,
 /// four specks of noise sit as marks do in its first frames; the ring must still be acquired
 /// and its scale measured from the marks.

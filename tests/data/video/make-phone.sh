@@ -58,6 +58,10 @@ if [ "${1:-}" = "--test-cut" ]; then
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone"
     stand_in "$shared" colours-reynolds-flicker 249 848 28 "$here/colours-reynolds-flicker-phone-long"
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone-covered" "300 359"
+    # A phone held upright: the same frames, stored on their side with a rotation to show
+    # them by (ffmpeg 5's tag; a later ffmpeg takes -display_rotation 90 before -i).
+    ffmpeg -loglevel error -y -i "$here/colours-none-phone.mp4" -c copy \
+        -metadata:s:v:0 rotate=90 "$here/colours-none-phone-upright.mp4"
     exit 0
 fi
 

@@ -114,7 +114,8 @@ pub fn probe(path: &Path) -> Result<FilmInfo, FilmError> {
     let ffprobe = find_program("ffprobe").ok_or(FilmError::new(path, FilmErrorKind::NoFfmpeg))?;
     let out = Command::new(ffprobe)
         .args(["-v", "error", "-select_streams", "v:0", "-show_entries"])
-        .args(["stream=width,height,avg_frame_rate,r_frame_rate,nb_frames", "-of"])
+        .args(["stream=width,height,avg_frame_rate,r_frame_rate,nb_frames:stream_tags=rotate"])
+        .args(["-show_entries", "stream_side_data=rotation", "-of"])
         .args(["default=noprint_wrappers=1"])
         .arg(path)
         .stdin(Stdio::null())
@@ -141,6 +142,14 @@ pub fn probe(path: &Path) -> Result<FilmInfo, FilmError> {
     let fps =
         get("avg_frame_rate").and_then(parse_rate).or(get("r_frame_rate").and_then(parse_rate));
     let frames = get("nb_frames").and_then(|v| v.parse::<u64>().ok()).filter(|&n| n > 0);
+    // A phone held upright stores its frames on their side with a rotation to show them by,
+    // which ffmpeg applies when it decodes: the frames come as shown, a quarter turn swapping
+    // their width and height.
+    let rotation = get("rotation").or(get("TAG:rotate")).and_then(|v| v.parse::<f64>().ok());
+    let (w, h) = match rotation {
+        Some(r) if (r.abs().round() as i64) % 180 == 90 => (h, w),
+        _ => (w, h),
+    };
     Ok(FilmInfo { width: w & !1, height: h & !1, fps, frames })
 }
 
