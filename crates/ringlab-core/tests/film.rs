@@ -195,6 +195,33 @@ fn a_film_from_a_phone_held_upright_is_tracked_as_it_is_shown() {
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
 }
 
+/// A film whose frame rate varies (`make-phone.sh --test-cut`: the disk's cut with frames
+/// 100-119 never taken, their time left in its timestamps): the frames are placed at their
+/// times at the nominal 240 frames/s, the untaken ones empty rows, and the report says so.
+/// Read as a steady film of 516 frames at 231 frames/s, every frame after the gap was 20
+/// frames early.
+#[test]
+fn a_film_whose_frame_rate_varies_keeps_each_frame_at_its_time() {
+    let t = run(&test_data("video/disk-dark-none-phone-vfr.mp4"), &options(aluminium_disk()))
+        .expect("tracks");
+    let truth = read_recording(&test_data("video/disk-dark-none-phone.truth.csv")).expect("truth");
+    assert_eq!(t.recording.frames.len(), truth.frames.len());
+    assert_eq!(t.recording.header.fps, 240.0);
+    assert!(
+        t.report.notes.iter().any(|n| n.contains("leave 20 of its frames")),
+        "{:?}",
+        t.report.notes
+    );
+    assert!(t.recording.frames[100..120].iter().flatten().all(Option::is_none));
+    let mut visible = truth.frames.clone();
+    visible[100..120].fill([None; 4]);
+    let c = compare(&t.recording.frames, &visible);
+    assert!(c.rms <= 1.4, "rms {:.3} px", c.rms);
+    assert_eq!((c.far, c.swaps, c.extra), (0, 0, 0), "far, swaps, marks where none was taken");
+    let after = compare(&t.recording.frames[120..], &visible[120..]);
+    assert!(after.found >= 0.98, "found after the gap {:.1}%", 100.0 * after.found);
+}
+
 /// A disk's dots at 2 px per mm and crf 28 (`make-phone.sh --test-cut`): with no scale given,
 /// four specks of noise sit as marks do in its first frames; the ring must still be acquired
 /// and its scale measured from the marks.

@@ -62,6 +62,10 @@ if [ "${1:-}" = "--test-cut" ]; then
     # them by (ffmpeg 5's tag; a later ffmpeg takes -display_rotation 90 before -i).
     ffmpeg -loglevel error -y -i "$here/colours-none-phone.mp4" -c copy \
         -metadata:s:v:0 rotate=90 "$here/colours-none-phone-upright.mp4"
+    # A film whose rate varies: frames 100-119 of the disk's cut never taken.
+    ffmpeg -loglevel error -y -i "$here/disk-dark-none-phone.mp4" \
+        -vf "select='not(between(n,100,119))'" -vsync vfr -c:v libx264 -crf 18 \
+        "$here/disk-dark-none-phone-vfr.mp4"
     exit 0
 fi
 

@@ -21,6 +21,7 @@ pub mod rim;
 pub mod scale;
 pub mod source;
 pub mod style;
+pub mod timestamps;
 
 pub use frame::Frame;
 pub use scale::RingScale;
@@ -521,6 +522,12 @@ fn assemble(
         notes.push(
             "a near camera whose distance is not known well enough (the table's scale within 2%) for the marks' figure to check the centres' error: the error said is the pixels' noise alone".into(),
         );
+    }
+    if info.missing > 0 {
+        notes.push(format!(
+            "the film's frame rate varies: its timestamps leave {} of its frames at {} frames/s untaken; they are empty rows at their times",
+            info.missing, fps
+        ));
     }
     notes.extend(lost::lost_note(&frames, opts.from_frame));
     if joined.unsettled > 0 {

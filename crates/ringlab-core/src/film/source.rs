@@ -16,8 +16,11 @@ pub struct FilmInfo {
     pub height: usize,
     /// Frames per second, where the container says it.
     pub fps: Option<f64>,
-    /// Number of frames, where the container says it.
+    /// Number of frames, where the container says it (a film whose rate varies: the frames
+    /// at its nominal rate from the first to the last, `missing` of them never taken).
     pub frames: Option<u64>,
+    /// Frames a film whose rate varies lacks at its nominal rate (given as blank frames).
+    pub missing: u64,
 }
 
 /// The extensions read as video files; anything else that is not a folder is a recording.
@@ -100,6 +103,10 @@ pub struct Video {
     decoded: u64,
     buffer: Vec<u8>,
     ended: bool,
+    /// A film whose rate varies: each decoded frame's number at the nominal rate.
+    slots: Option<Vec<u64>>,
+    /// The number of the next frame given (decoded or, where none was taken, blank).
+    next_slot: u64,
 }
 
 fn parse_rate(s: &str) -> Option<f64> {
@@ -109,8 +116,9 @@ fn parse_rate(s: &str) -> Option<f64> {
     (r.is_finite() && r > 0.0).then_some(r)
 }
 
-/// The video stream's size, rate and length, from ffprobe.
-pub fn probe(path: &Path) -> Result<FilmInfo, FilmError> {
+/// The video stream's size, rate and length, from ffprobe, and its nominal rate (the rate
+/// its timestamps are counted in, which a film that drops frames keeps above its average).
+pub fn probe(path: &Path) -> Result<(FilmInfo, Option<f64>), FilmError> {
     let ffprobe = find_program("ffprobe").ok_or(FilmError::new(path, FilmErrorKind::NoFfmpeg))?;
     let out = Command::new(ffprobe)
         .args(["-v", "error", "-select_streams", "v:0", "-show_entries"])
@@ -139,8 +147,9 @@ pub fn probe(path: &Path) -> Result<FilmInfo, FilmError> {
     if w < 2 || h < 2 {
         return Err(FilmError::new(path, FilmErrorKind::NotAVideo(format!("frames of {w}x{h}"))));
     }
-    let fps =
-        get("avg_frame_rate").and_then(parse_rate).or(get("r_frame_rate").and_then(parse_rate));
+    let (average, nominal) =
+        (get("avg_frame_rate").and_then(parse_rate), get("r_frame_rate").and_then(parse_rate));
+    let fps = average.or(nominal);
     let frames = get("nb_frames").and_then(|v| v.parse::<u64>().ok()).filter(|&n| n > 0);
     // A phone held upright stores its frames on their side with a rotation to show them by,
     // which ffmpeg applies when it decodes: the frames come as shown, a quarter turn swapping
@@ -150,7 +159,22 @@ pub fn probe(path: &Path) -> Result<FilmInfo, FilmError> {
         Some(r) if (r.abs().round() as i64) % 180 == 90 => (h, w),
         _ => (w, h),
     };
-    Ok(FilmInfo { width: w & !1, height: h & !1, fps, frames })
+    Ok((FilmInfo { width: w & !1, height: h & !1, fps, frames, missing: 0 }, nominal))
+}
+
+/// The slots of a film whose rate varies (`timestamps`), with its info set to the nominal
+/// rate; `None` for a steady film, or where the timestamps do not say.
+fn variable_rate(path: &Path, info: &mut FilmInfo, nominal: Option<f64>) -> Option<Vec<u64>> {
+    let (average, nominal) = (info.fps?, nominal?);
+    if !super::timestamps::rate_varies(nominal, average) {
+        return None;
+    }
+    let slots = super::timestamps::frame_slots(path, nominal)?;
+    let last = *slots.last()?;
+    info.fps = Some(nominal);
+    info.frames = Some(last + 1);
+    info.missing = last + 1 - slots.len() as u64;
+    Some(slots)
 }
 
 fn first_line(s: &str) -> String {
@@ -159,7 +183,8 @@ fn first_line(s: &str) -> String {
 
 impl Video {
     fn open(path: &Path) -> Result<Video, FilmError> {
-        let info = probe(path)?;
+        let (mut info, nominal) = probe(path)?;
+        let slots = variable_rate(path, &mut info, nominal);
         let ffmpeg = find_program("ffmpeg").ok_or(FilmError::new(path, FilmErrorKind::NoFfmpeg))?;
         let mut child = Command::new(ffmpeg)
             .args(["-v", "error", "-nostdin", "-i"])
@@ -193,6 +218,8 @@ impl Video {
             decoded: 0,
             buffer: vec![0; size],
             ended: false,
+            slots,
+            next_slot: 0,
         })
     }
 
@@ -200,6 +227,22 @@ impl Video {
         if self.ended {
             return Ok(false);
         }
+        // A frame never taken (a film whose rate varies): blank, where nothing is found.
+        if let Some(slot) = self.slots.as_ref().and_then(|s| s.get(self.decoded as usize))
+            && *slot > self.next_slot
+        {
+            let (w, h) = (self.info.width, self.info.height);
+            (frame.width, frame.height) = (w, h);
+            frame.luma.clear();
+            frame.luma.resize(w * h, 0);
+            frame.cb.clear();
+            frame.cb.resize(w * h / 4, 128);
+            frame.cr.clear();
+            frame.cr.resize(w * h / 4, 128);
+            self.next_slot += 1;
+            return Ok(true);
+        }
+        self.next_slot += 1;
         let mut filled = 0;
         while filled < self.buffer.len() {
             match self.stdout.read(&mut self.buffer[filled..]) {
@@ -246,7 +289,8 @@ impl Video {
         }
         // A film cut off mid-stream decodes what it holds and says so on stderr, or comes
         // short of the count its header announces.
-        let short = self.info.frames.is_some_and(|n| self.decoded + 1 < n);
+        let announced = self.info.frames.map(|n| n - self.info.missing);
+        let short = announced.is_some_and(|n| self.decoded + 1 < n);
         let complained = ["partial file", "Invalid data", "error while decoding", "corrupt"]
             .iter()
             .any(|k| said.contains(k));
@@ -315,6 +359,7 @@ impl Folder {
             height: first.height,
             fps: None,
             frames: Some(files.len() as u64),
+            missing: 0,
         };
         Ok(Folder { info, files, next: 0 })
     }

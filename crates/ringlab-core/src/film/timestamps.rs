@@ -1,0 +1,60 @@
+//! A film whose frame rate varies (a phone drops frames in poor light): where each frame
+//! falls at the film's nominal rate, from its timestamps, so that a frame never taken is an
+//! empty row at its time and not a frame the others slide into (the physics is timed by the
+//! frame numbers).
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+use super::source::find_program;
+
+/// The rates differ by more than this share where the film's rate varies.
+const VARIES: f64 = 0.005;
+
+/// Whether the average rate says frames are missing at the nominal one.
+pub fn rate_varies(nominal: f64, average: f64) -> bool {
+    (average / nominal - 1.0).abs() > VARIES
+}
+
+/// Each frame's number at `nominal` frames/s, in the order ffmpeg gives them, from the
+/// video packets' timestamps; `None` where they cannot be had or do not rise frame by frame.
+pub fn frame_slots(path: &Path, nominal: f64) -> Option<Vec<u64>> {
+    let ffprobe = find_program("ffprobe")?;
+    let out = Command::new(ffprobe)
+        .args(["-v", "error", "-select_streams", "v:0", "-show_entries", "packet=pts_time"])
+        .args(["-of", "csv=p=0"])
+        .arg(path)
+        .stdin(Stdio::null())
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut times: Vec<f64> = text
+        .lines()
+        .map(|l| l.trim().trim_end_matches(',').parse::<f64>().ok())
+        .collect::<Option<_>>()?;
+    times.sort_by(|a, b| a.total_cmp(b));
+    slots(&times, nominal)
+}
+
+/// Frame numbers at `nominal` frames/s of frames shown at `times` (s, ascending).
+fn slots(times: &[f64], nominal: f64) -> Option<Vec<u64>> {
+    let first = *times.first()?;
+    let slots: Vec<u64> = times.iter().map(|t| ((t - first) * nominal).round() as u64).collect();
+    slots.windows(2).all(|w| w[1] > w[0]).then_some(slots)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_dropped_leave_their_slots_and_a_steady_film_none() {
+        let times: Vec<f64> =
+            (0..10).filter(|i| !(4..7).contains(i)).map(|i| 1.0 + i as f64 / 240.0).collect();
+        assert_eq!(slots(&times, 240.0), Some(vec![0, 1, 2, 3, 7, 8, 9]));
+        assert!(rate_varies(240.0, 220.0));
+        assert!(!rate_varies(240.0, 239.9));
+        // Two frames in one slot: the nominal rate is not the film's.
+        assert_eq!(slots(&[0.0, 0.001, 0.01], 240.0), None);
+    }
+}
