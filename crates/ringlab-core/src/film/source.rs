@@ -169,7 +169,7 @@ fn variable_rate(path: &Path, info: &mut FilmInfo, nominal: Option<f64>) -> Opti
     if !super::timestamps::rate_varies(nominal, average) {
         return None;
     }
-    let slots = super::timestamps::frame_slots(path, nominal)?;
+    let slots = super::timestamps::frame_slots(&find_program("ffprobe")?, path, nominal)?;
     let last = *slots.last()?;
     info.fps = Some(nominal);
     info.frames = Some(last + 1);

@@ -6,8 +6,6 @@
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-use super::source::find_program;
-
 /// The rates differ by more than this share where the film's rate varies.
 const VARIES: f64 = 0.005;
 
@@ -17,9 +15,9 @@ pub fn rate_varies(nominal: f64, average: f64) -> bool {
 }
 
 /// Each frame's number at `nominal` frames/s, in the order ffmpeg gives them, from the
-/// video packets' timestamps; `None` where they cannot be had or do not rise frame by frame.
-pub fn frame_slots(path: &Path, nominal: f64) -> Option<Vec<u64>> {
-    let ffprobe = find_program("ffprobe")?;
+/// video packets' timestamps as `ffprobe` reads them; `None` where they cannot be had or do
+/// not rise frame by frame.
+pub fn frame_slots(ffprobe: &Path, path: &Path, nominal: f64) -> Option<Vec<u64>> {
     let out = Command::new(ffprobe)
         .args(["-v", "error", "-select_streams", "v:0", "-show_entries", "packet=pts_time"])
         .args(["-of", "csv=p=0"])
