@@ -162,16 +162,16 @@ pub fn probe(path: &Path) -> Result<(FilmInfo, Option<f64>), FilmError> {
     Ok((FilmInfo { width: w & !1, height: h & !1, fps, frames, missing: 0 }, nominal))
 }
 
-/// The slots of a film whose rate varies (`timestamps`), with its info set to the nominal
+/// The slots of a film whose rate varies (`timestamps`), with its info set to the film's own
 /// rate; `None` for a steady film, or where the timestamps do not say.
 fn variable_rate(path: &Path, info: &mut FilmInfo, nominal: Option<f64>) -> Option<Vec<u64>> {
     let (average, nominal) = (info.fps?, nominal?);
     if !super::timestamps::rate_varies(nominal, average) {
         return None;
     }
-    let slots = super::timestamps::frame_slots(&find_program("ffprobe")?, path, nominal)?;
+    let (rate, slots) = super::timestamps::frame_slots(&find_program("ffprobe")?, path)?;
     let last = *slots.last()?;
-    info.fps = Some(nominal);
+    info.fps = Some(rate);
     info.frames = Some(last + 1);
     info.missing = last + 1 - slots.len() as u64;
     Some(slots)
