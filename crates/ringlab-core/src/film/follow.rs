@@ -646,7 +646,9 @@ impl Follower {
                         // learnt where the ring was acquired may be a blur's (an opening on
                         // edge), far enough off for every later frame to turn the mark down.
                         let at = [again.marks[k].x, again.marks[k].y];
-                        if let Some(c) = self.centre_at(frame, at[0], at[1], k, 4.0) {
+                        if self.style == MarkStyle::Colours
+                            && let Some(c) = self.centre_at(frame, at[0], at[1], k, 4.0)
+                        {
                             self.learn_hue(&c, k);
                         }
                         found[k] = self.look(frame, k, at, 3.0);
