@@ -45,6 +45,8 @@ struct Comparison {
     rms: f64,
     found: f64,
     far: usize,
+    /// Marks more than 20 px off: taken on a look-alike.
+    gross: usize,
     extra: usize,
     /// Frames whose marks fit another numbering within 3 px but not the film's own.
     swaps: usize,
@@ -98,6 +100,7 @@ fn compare(tracked: &[FrameMarks], truth: &[FrameMarks]) -> Comparison {
         rms: (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt(),
         found: e.len() as f64 / visible as f64,
         far: e.iter().filter(|&&x| x > 3.0).count(),
+        gross: e.iter().filter(|&&x| x > 20.0).count(),
         extra,
     }
 }
@@ -168,6 +171,27 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
     let truth = read_recording(&test_data("video/colours-none-phone.truth.csv")).expect("truth");
     assert_eq!(t.report.style, MarkStyle::Colours);
     check_colours_phone(&t, &truth.frames);
+}
+
+/// The whole of `colours-none` as a phone films it (crf 28, 1813 frames), its opening too, where
+/// the ring stands on edge and spins fast and a mark is a faint smear of chroma. A mark looked
+/// for round the whole ring took look-alikes there (2.124 px, 12 marks more than 20 px off):
+/// now it must have a close hue, lie off another mark's fringe and keep the figure within the
+/// ring's size, and frames whose marks are not of the ring's size are left out (`spread`).
+/// The goal, 1.4 px, is not met: held where it stands.
+#[test]
+fn a_whole_phone_film_keeps_look_alikes_out_of_its_opening() {
+    let t = run(&test_data("video/colours-none-phone-whole.mp4"), &options(steel_ring()))
+        .expect("tracks");
+    let truth =
+        read_recording(&test_data("video/colours-none-phone-whole.truth.csv")).expect("truth");
+    let c = compare(&t.recording.frames, &truth.frames);
+    assert!(c.rms <= 1.6, "rms {:.3} px", c.rms);
+    assert!(c.gross <= 8, "{} marks more than 20 px off", c.gross);
+    assert!(c.found >= 0.87, "found {:.1}%", 100.0 * c.found);
+    assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
+    assert!(t.report.left_out_off_size > 0);
+    assert!(t.report.notes.iter().any(|n| n.contains("wider or narrower than the ring")));
 }
 
 /// The colour phone cut's goal, held where it stands: within 1.18 px, 88% found, no swap.

@@ -57,6 +57,7 @@ if [ "${1:-}" = "--test-cut" ]; then
     stand_in "$shared" colours-none 249 848 28 "$here/colours-none-phone-long"
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone"
     stand_in "$shared" colours-reynolds-flicker 249 848 28 "$here/colours-reynolds-flicker-phone-long"
+    stand_in "$shared" colours-none 0 1812 28 "$here/colours-none-phone-whole"
     stand_in "$shared" dark-perspective 249 848 28 "$here/dark-perspective-phone-covered" "300 359"
     # A phone held upright: the same frames, stored on their side with a rotation to show
     # them by (ffmpeg 5's tag; a later ffmpeg takes -display_rotation 90 before -i).
@@ -78,4 +79,8 @@ for crf in 23 28; do
     stand_in "$shared" colours-reynolds-flicker 249 848 "$crf" "$out/colours-reynolds-flicker-crf$crf"
     stand_in "$shared" dark-perspective 249 848 "$crf" "$out/dark-perspective-crf$crf"
     stand_in "$shared" disk-dark-none 0 535 "$crf" "$out/disk-dark-none-crf$crf"
+    for name in colours-none colours-reynolds-flicker dark-perspective; do
+        last=$(awk -F, '/^[0-9]/ {n = $1} END {print n}' "$shared/$name.truth.csv")
+        stand_in "$shared" "$name" 0 "$last" "$crf" "$out/$name-whole-crf$crf"
+    done
 done

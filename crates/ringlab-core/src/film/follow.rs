@@ -72,6 +72,15 @@ const HISTORY: usize = 4;
 /// Colours: the hues a mark showed when found anew, kept for its own (their medoid): one from
 /// a blur (the ring acquired on edge) or a look-alike does not carry it.
 const HUES: usize = 9;
+/// Colours: a mark looked for round the whole ring meets more look-alikes than one followed,
+/// and is taken only with a hue this close to its own (radians; a followed mark: 0.6),
+const WIDE_HUE: f64 = 0.35;
+/// not this near (px) a mark found (each chroma sample is weighed against a ring of samples
+/// 4 away, 8 px: beside a mark, that ring takes in its colour and the difference shows its
+/// complement),
+const FRINGE: f64 = 10.0;
+/// and not where the marks found would spread wider than this many times the ring's size.
+const WIDER: f64 = 1.15;
 /// Colours: the brightness centre may lie this far (px) from the chroma's.
 const REACH: f64 = 3.0;
 /// A coloured mark's blob may be fitted up to this many times its typical width.
@@ -117,6 +126,37 @@ pub fn centre_of(marks: &FrameMarks) -> Option<[f64; 2]> {
     ) {
         (Some(m), Some(n)) => Some(mid(m, n)),
         (m, n) => m.or(n),
+    }
+}
+
+/// The semi-major axis (px) of the ellipse through the marks found, with the marks a quarter
+/// turn apart on it (an affine view of the mark circle), from three marks or four; from two,
+/// the least it can be. In every pose it is the ring's size: a circle seen from afar keeps
+/// the diameter parallel to the image whatever its tilt.
+pub fn least_semi_major(marks: &FrameMarks) -> Option<f64> {
+    let half = |p: [f64; 2], q: [f64; 2]| [(p[0] - q[0]) / 2.0, (p[1] - q[1]) / 2.0];
+    let seen = marks.iter().filter(|m| m.is_some()).count();
+    match seen {
+        4 => {
+            let [a, b, c, d] = marks.map(|m| m.unwrap_or_default());
+            Some(super::find::ellipse_axes(half(a, c), half(b, d)).0)
+        }
+        3 => {
+            // Conjugate semi-diameters: from an opposite pair's midpoint to its mark and to
+            // the mark between.
+            let k = (0..4).find(|&k| marks[k].is_some() && marks[(k + 2) % 4].is_some())?;
+            let (a, c) = (marks[k]?, marks[(k + 2) % 4]?);
+            let m = [(a[0] + c[0]) / 2.0, (a[1] + c[1]) / 2.0];
+            let b = marks[(k + 1) % 4].or(marks[(k + 3) % 4])?;
+            Some(super::find::ellipse_axes(half(a, c), [b[0] - m[0], b[1] - m[1]]).0)
+        }
+        2 => {
+            let k: Vec<usize> = (0..4).filter(|&k| marks[k].is_some()).collect();
+            let (p, q) = (marks[k[0]]?, marks[k[1]]?);
+            let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+            Some(if (k[1] - k[0]).is_multiple_of(2) { d / 2.0 } else { d / std::f64::consts::SQRT_2 })
+        }
+        _ => None,
     }
 }
 
@@ -536,7 +576,8 @@ impl Follower {
     }
 
     /// Colours: a mark neither followed nor placed by three others, where two others were
-    /// found, looked for by its hue round the ring (its hue names it).
+    /// found, looked for by its hue round the ring (its hue names it), and kept where it is
+    /// not a look-alike (`WIDE_HUE`, `FRINGE`, `WIDER`).
     fn by_hue_round_the_ring(&self, frame: &Frame, index: u64, found: &mut [Option<Centre>; 4]) {
         let seen: Vec<[f64; 2]> = found.iter().flatten().map(|c| [c.x, c.y]).collect();
         if seen.len() < 2 || seen.len() == 4 || !(self.size > 0.0) {
@@ -557,7 +598,16 @@ impl Follower {
         };
         for k in 0..4 {
             if found[k].is_none() && self.predict(k, index).is_none() {
-                found[k] = self.look(frame, k, centre, reach);
+                found[k] = self
+                    .look(frame, k, centre, reach)
+                    .filter(|c| {
+                        angle_between(c.chroma[1].atan2(c.chroma[0]), self.marks[k].hue) <= WIDE_HUE
+                    })
+                    .filter(|c| seen.iter().all(|p| (p[0] - c.x).hypot(p[1] - c.y) >= FRINGE));
+                let marks: FrameMarks = std::array::from_fn(|j| found[j].map(|c| [c.x, c.y]));
+                if least_semi_major(&marks).is_some_and(|a| a > WIDER * self.size + 2.0) {
+                    found[k] = None;
+                }
             }
         }
     }

@@ -20,6 +20,7 @@ pub mod pose_error;
 pub mod rim;
 pub mod scale;
 pub mod source;
+pub mod spread;
 pub mod style;
 pub mod timestamps;
 
@@ -222,6 +223,8 @@ pub struct TrackReport {
     pub renumbered_after_loss: usize,
     /// Marks left out because their numbering could not be carried across a loss.
     pub left_out_unnumbered: usize,
+    /// Marks left out with a frame whose marks do not have the ring's size (`spread`).
+    pub left_out_off_size: usize,
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
@@ -358,7 +361,8 @@ pub fn track(
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
     let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
-    let counts = Counts { ambiguous, reacquired, joined };
+    let off_size = spread::leave_out_off_size(&mut frames, &mut sigma);
+    let counts = Counts { ambiguous, reacquired, joined, off_size };
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
 }
 
@@ -398,6 +402,8 @@ struct Counts {
     ambiguous: usize,
     reacquired: usize,
     joined: join::Joined,
+    /// Marks left out with a frame not of the ring's size (`spread`).
+    off_size: usize,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -412,7 +418,7 @@ fn assemble(
     sigma: Vec<[Option<f64>; 4]>,
     counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
-    let Counts { ambiguous, reacquired, joined } = counts;
+    let Counts { ambiguous, reacquired, joined, off_size } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -536,6 +542,11 @@ fn assemble(
             joined.marks_left_out, joined.unsettled
         ));
     }
+    if off_size > 0 {
+        notes.push(format!(
+            "{off_size} marks left out in frames whose marks spread wider or narrower than the ring (a look-alike among them)"
+        ));
+    }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut extra = vec![
         ("tracked_from".to_string(), name),
@@ -586,6 +597,7 @@ fn assemble(
         reacquired,
         renumbered_after_loss: joined.settled,
         left_out_unnumbered: joined.marks_left_out,
+        left_out_off_size: off_size,
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
