@@ -154,7 +154,11 @@ pub fn least_semi_major(marks: &FrameMarks) -> Option<f64> {
             let k: Vec<usize> = (0..4).filter(|&k| marks[k].is_some()).collect();
             let (p, q) = (marks[k[0]]?, marks[k[1]]?);
             let d = (p[0] - q[0]).hypot(p[1] - q[1]);
-            Some(if (k[1] - k[0]).is_multiple_of(2) { d / 2.0 } else { d / std::f64::consts::SQRT_2 })
+            Some(if (k[1] - k[0]).is_multiple_of(2) {
+                d / 2.0
+            } else {
+                d / std::f64::consts::SQRT_2
+            })
         }
         _ => None,
     }
