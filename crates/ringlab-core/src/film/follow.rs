@@ -25,6 +25,8 @@ pub struct FrameResult {
     /// Dots found anew with no mark followed: their numbering is a guess until the ring's
     /// turning settles it (`join`).
     pub new_numbering: bool,
+    /// Colours: the hue each mark found showed (radians in the Cb, Cr plane).
+    pub hues: [Option<f64>; 4],
 }
 
 #[derive(Clone, Debug)]
@@ -260,9 +262,16 @@ impl Follower {
         m.hue = medoid(&m.hues);
     }
 
-    /// Where each mark was last found.
-    pub fn last_positions(&self) -> [Option<[f64; 2]>; 4] {
-        std::array::from_fn(|k| self.marks[k].history.last().map(|h| h.1))
+    /// Where each mark was last found, and for colours its hue then: the result of the frame
+    /// the ring was acquired in.
+    pub fn acquired(&self) -> FrameResult {
+        FrameResult {
+            marks: std::array::from_fn(|k| self.marks[k].history.last().map(|h| h.1)),
+            hues: std::array::from_fn(|k| {
+                (self.style == MarkStyle::Colours).then_some(self.marks[k].hue)
+            }),
+            ..FrameResult::default()
+        }
     }
 
     /// Dots: each disc tried on the four marks found, its parallelogram gap added to its
@@ -798,6 +807,9 @@ impl Follower {
             if let Some(c) = found[k] {
                 out.marks[k] = Some([c.x, c.y]);
                 out.sigma[k] = Some(c.sigma);
+                if self.style == MarkStyle::Colours {
+                    out.hues[k] = Some(c.chroma[1].atan2(c.chroma[0]));
+                }
                 let m = &mut self.marks[k];
                 m.history.push((index, [c.x, c.y]));
                 if m.history.len() > HISTORY {

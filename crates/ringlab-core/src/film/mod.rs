@@ -21,6 +21,7 @@ pub mod rim;
 pub mod scale;
 pub mod source;
 pub mod spread;
+pub mod stray_hue;
 pub mod style;
 pub mod timestamps;
 
@@ -225,6 +226,8 @@ pub struct TrackReport {
     pub left_out_unnumbered: usize,
     /// Marks left out with a frame whose marks do not have the ring's size (`spread`).
     pub left_out_off_size: usize,
+    /// Coloured marks left out for a hue astray from the mark's over the film (`stray_hue`).
+    pub left_out_stray_hue: usize,
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
@@ -303,8 +306,7 @@ pub fn track(
         style = told;
     }
 
-    let mut frames: Vec<FrameMarks> = Vec::new();
-    let mut sigma: Vec<[Option<f64>; 4]> = Vec::new();
+    let mut tracks = Tracks::default();
     let mut frame = Frame::default();
     let mut follower: Option<follow::Follower> = None;
     let mut acquirer = acquire::Acquirer::default();
@@ -340,8 +342,7 @@ pub fn track(
                     Some(run) => {
                         acquired_at = Some(run.first.0);
                         let at = opts.from_frame;
-                        let (f, last) =
-                            follow_run(run, style, roi, range, at, &mut frames, &mut sigma);
+                        let (f, last) = follow_run(run, style, roi, range, at, &mut tracks);
                         follower = Some(f);
                         last
                     }
@@ -352,17 +353,18 @@ pub fn track(
         };
         ambiguous += result.ambiguous;
         if result.new_numbering {
-            new_numbering.push(frames.len());
+            new_numbering.push(tracks.frames.len());
         }
-        frames.push(result.marks);
-        sigma.push(result.sigma);
+        tracks.push(&result);
         index += 1;
         progress(index - opts.from_frame, total);
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
+    let Tracks { mut frames, mut sigma, hues } = tracks;
     let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
     let off_size = spread::leave_out_off_size(&mut frames, &mut sigma);
-    let counts = Counts { ambiguous, reacquired, joined, off_size };
+    let stray_hue = stray_hue::leave_out_stray_hues(&mut frames, &mut sigma, &hues);
+    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue };
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
 }
 
@@ -376,25 +378,44 @@ fn follow_run(
     roi: Roi,
     range: (f64, f64),
     first: u64,
-    frames: &mut [FrameMarks],
-    sigma: &mut [[Option<f64>; 4]],
+    tracks: &mut Tracks,
 ) -> (follow::Follower, follow::FrameResult) {
     let (index, frame, found) = run.first;
     let mut f = follow::Follower::new(style, &found, &frame, index, roi, range);
-    let mut result = follow::FrameResult { marks: f.last_positions(), ..Default::default() };
+    let mut result = f.acquired();
     let mut ambiguous = 0;
     let mut at = index;
     for (index, frame) in run.rest {
-        let slot = (at - first) as usize;
-        if let (Some(m), Some(s)) = (frames.get_mut(slot), sigma.get_mut(slot)) {
-            (*m, *s) = (result.marks, result.sigma);
-        }
+        tracks.set((at - first) as usize, &result);
         result = f.step(&frame, index);
         ambiguous += result.ambiguous;
         at = index;
     }
     result.ambiguous = ambiguous;
     (f, result)
+}
+
+/// What each frame gave, by frame: the marks, their centres' errors and, for colours, hues.
+#[derive(Default)]
+struct Tracks {
+    frames: Vec<FrameMarks>,
+    sigma: Vec<[Option<f64>; 4]>,
+    hues: Vec<[Option<f64>; 4]>,
+}
+
+impl Tracks {
+    fn push(&mut self, r: &follow::FrameResult) {
+        self.frames.push(r.marks);
+        self.sigma.push(r.sigma);
+        self.hues.push(r.hues);
+    }
+
+    /// A frame already pushed given again (an acquisition's run followed).
+    fn set(&mut self, slot: usize, r: &follow::FrameResult) {
+        if slot < self.frames.len() {
+            (self.frames[slot], self.sigma[slot], self.hues[slot]) = (r.marks, r.sigma, r.hues);
+        }
+    }
 }
 
 /// What the tracking counted on the way.
@@ -404,6 +425,8 @@ struct Counts {
     joined: join::Joined,
     /// Marks left out with a frame not of the ring's size (`spread`).
     off_size: usize,
+    /// Marks left out for a hue astray from the mark's (`stray_hue`).
+    stray_hue: usize,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -418,7 +441,7 @@ fn assemble(
     sigma: Vec<[Option<f64>; 4]>,
     counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
-    let Counts { ambiguous, reacquired, joined, off_size } = counts;
+    let Counts { ambiguous, reacquired, joined, off_size, stray_hue } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -547,6 +570,11 @@ fn assemble(
             "{off_size} marks left out in frames whose marks spread wider or narrower than the ring (a look-alike among them)"
         ));
     }
+    if stray_hue > 0 {
+        notes.push(format!(
+            "{stray_hue} marks left out whose hue strayed more than 0.4 rad from the mark's over the frames near (a look-alike, or the blur of a ring on edge)"
+        ));
+    }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut extra = vec![
         ("tracked_from".to_string(), name),
@@ -598,6 +626,7 @@ fn assemble(
         renumbered_after_loss: joined.settled,
         left_out_unnumbered: joined.marks_left_out,
         left_out_off_size: off_size,
+        left_out_stray_hue: stray_hue,
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
