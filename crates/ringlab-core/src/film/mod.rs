@@ -7,6 +7,7 @@
 //! assemble the recording with a report of what was found, left out, and the centres' error.
 
 pub mod acquire;
+pub mod brief;
 pub mod centre;
 pub mod choice;
 pub mod error;
@@ -228,6 +229,8 @@ pub struct TrackReport {
     pub left_out_off_size: usize,
     /// Coloured marks left out for a hue astray from the mark's over the film (`stray_hue`).
     pub left_out_stray_hue: usize,
+    /// Marks left out, seen in fewer than 3 frames in a row between frames without (`brief`).
+    pub left_out_glimpses: usize,
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
@@ -364,7 +367,8 @@ pub fn track(
     let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
     let off_size = spread::leave_out_off_size(&mut frames, &mut sigma);
     let stray_hue = stray_hue::leave_out_stray_hues(&mut frames, &mut sigma, &hues);
-    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue };
+    let glimpses = brief::leave_out_glimpses(&mut frames, &mut sigma);
+    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue, glimpses };
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
 }
 
@@ -427,6 +431,8 @@ struct Counts {
     off_size: usize,
     /// Marks left out for a hue astray from the mark's (`stray_hue`).
     stray_hue: usize,
+    /// Marks left out, seen in too few frames in a row (`brief`).
+    glimpses: usize,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -441,7 +447,7 @@ fn assemble(
     sigma: Vec<[Option<f64>; 4]>,
     counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
-    let Counts { ambiguous, reacquired, joined, off_size, stray_hue } = counts;
+    let Counts { ambiguous, reacquired, joined, off_size, stray_hue, glimpses } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -570,6 +576,11 @@ fn assemble(
             "{off_size} marks left out in frames whose marks spread wider or narrower than the ring (a look-alike among them)"
         ));
     }
+    if glimpses > 0 {
+        notes.push(format!(
+            "{glimpses} marks left out, seen in fewer than 3 frames in a row between frames where the ring was lost: nothing confirms them"
+        ));
+    }
     if stray_hue > 0 {
         notes.push(format!(
             "{stray_hue} marks left out whose hue strayed more than 0.4 rad from the mark's over the frames near (a look-alike, or the blur of a ring on edge)"
@@ -627,6 +638,7 @@ fn assemble(
         left_out_unnumbered: joined.marks_left_out,
         left_out_off_size: off_size,
         left_out_stray_hue: stray_hue,
+        left_out_glimpses: glimpses,
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
