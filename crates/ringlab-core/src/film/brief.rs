@@ -7,7 +7,7 @@
 use crate::recording::FrameMarks;
 
 /// The fewest frames in a row that stand.
-const LEAST_RUN: usize = 3;
+pub const LEAST_RUN: usize = 3;
 
 /// Leaves out the marks of glimpses; returns how many.
 pub fn leave_out_glimpses(frames: &mut [FrameMarks], sigma: &mut [[Option<f64>; 4]]) -> usize {

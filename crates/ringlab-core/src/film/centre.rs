@@ -32,6 +32,13 @@ pub struct Centre {
     pub coarse: bool,
 }
 
+impl Centre {
+    /// Colour marks: the hue (radians in the Cb, Cr plane).
+    pub fn hue(&self) -> f64 {
+        self.chroma[1].atan2(self.chroma[0])
+    }
+}
+
 const MIN_WIDTH: f64 = 0.5;
 pub const MAX_WIDTH: f64 = 4.0;
 

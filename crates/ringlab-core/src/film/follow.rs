@@ -255,7 +255,7 @@ impl Follower {
             return;
         }
         let m = &mut self.marks[k];
-        m.hues.push(centre.chroma[1].atan2(centre.chroma[0]));
+        m.hues.push(centre.hue());
         if m.hues.len() > HUES {
             m.hues.remove(0);
         }
@@ -580,9 +580,7 @@ impl Follower {
         if c.strength < 0.4 * m.strength {
             return None;
         }
-        if self.style == MarkStyle::Colours
-            && angle_between(c.chroma[1].atan2(c.chroma[0]), m.hue) > 0.6
-        {
+        if self.style == MarkStyle::Colours && angle_between(c.hue(), m.hue) > 0.6 {
             return None;
         }
         Some(c)
@@ -613,9 +611,7 @@ impl Follower {
             if found[k].is_none() && self.predict(k, index).is_none() {
                 found[k] = self
                     .look(frame, k, centre, reach)
-                    .filter(|c| {
-                        angle_between(c.chroma[1].atan2(c.chroma[0]), self.marks[k].hue) <= WIDE_HUE
-                    })
+                    .filter(|c| angle_between(c.hue(), self.marks[k].hue) <= WIDE_HUE)
                     .filter(|c| seen.iter().all(|p| (p[0] - c.x).hypot(p[1] - c.y) >= FRINGE));
                 let marks: FrameMarks = std::array::from_fn(|j| found[j].map(|c| [c.x, c.y]));
                 if least_semi_major(&marks).is_some_and(|a| a > WIDER * self.size + 2.0) {
@@ -808,7 +804,7 @@ impl Follower {
                 out.marks[k] = Some([c.x, c.y]);
                 out.sigma[k] = Some(c.sigma);
                 if self.style == MarkStyle::Colours {
-                    out.hues[k] = Some(c.chroma[1].atan2(c.chroma[0]));
+                    out.hues[k] = Some(c.hue());
                 }
                 let m = &mut self.marks[k];
                 m.history.push((index, [c.x, c.y]));
@@ -823,8 +819,11 @@ impl Follower {
         }
         if let [Some(a), Some(b), Some(c), Some(d)] = out.marks {
             self.figure = Figure::from_marks([a, b, c, d]).map(|f| (index, f));
-            let half = |p: [f64; 2], q: [f64; 2]| [(p[0] - q[0]) / 2.0, (p[1] - q[1]) / 2.0];
-            self.size = super::find::ellipse_axes(half(a, c), half(b, d)).0;
+        }
+        if out.marks.iter().all(|m| m.is_some())
+            && let Some(size) = least_semi_major(&out.marks)
+        {
+            self.size = size;
         }
         self.choose_disc(frame, &out.marks);
         if let Some(a) = centre_of(&out.marks) {

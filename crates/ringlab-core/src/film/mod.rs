@@ -578,12 +578,14 @@ fn assemble(
     }
     if glimpses > 0 {
         notes.push(format!(
-            "{glimpses} marks left out, seen in fewer than 3 frames in a row between frames where the ring was lost: nothing confirms them"
+            "{glimpses} marks left out, seen in fewer than {} frames in a row between frames where the ring was lost: nothing confirms them",
+            brief::LEAST_RUN
         ));
     }
     if stray_hue > 0 {
         notes.push(format!(
-            "{stray_hue} marks left out whose hue strayed more than 0.4 rad from the mark's over the frames near (a look-alike, or the blur of a ring on edge)"
+            "{stray_hue} marks left out whose hue strayed more than {} rad from the mark's over the frames near (a look-alike, or the blur of a ring on edge)",
+            stray_hue::STRAY
         ));
     }
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

@@ -12,7 +12,7 @@ const WINDOW: usize = 300;
 /// Hues needed near a frame for its mark's hue to be known.
 const LEAST_HUES: usize = 20;
 /// The farthest a mark's hue may lie from the mark's (radians).
-const STRAY: f64 = 0.4;
+pub const STRAY: f64 = 0.4;
 
 /// Leaves out marks whose hue strays; returns how many. `hues`: by frame, each mark's hue
 /// where found (colours; `None` otherwise, and then nothing is left out).
