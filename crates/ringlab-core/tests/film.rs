@@ -179,8 +179,9 @@ fn small_strongly_compressed_colours_are_placed_on_the_brightness() {
 /// now it must have a close hue, lie off another mark's fringe and keep the figure within the
 /// ring's size, frames whose marks are not of the ring's size are left out (`spread`), and so
 /// are marks whose hue strays from the mark's over the film (`stray_hue`: the opening's
-/// look-alikes and blurs, 1.559 px before). The goal, 1.4 px, is nearly met (1.411 px): held
-/// where it stands.
+/// look-alikes and blurs, 1.559 px before), and frames of one or two marks where the ring is
+/// mostly lost (`few`: spots of stale colour, 1.402 px before). The goal is 1.4 px (0.887 px
+/// now, none more than 20 px off).
 #[test]
 fn a_whole_phone_film_keeps_look_alikes_out_of_its_opening() {
     let t = run(&test_data("video/colours-none-phone-whole.mp4"), &options(steel_ring()))
@@ -188,13 +189,15 @@ fn a_whole_phone_film_keeps_look_alikes_out_of_its_opening() {
     let truth =
         read_recording(&test_data("video/colours-none-phone-whole.truth.csv")).expect("truth");
     let c = compare(&t.recording.frames, &truth.frames);
-    assert!(c.rms <= 1.45, "rms {:.3} px", c.rms);
-    assert!(c.gross <= 6, "{} marks more than 20 px off", c.gross);
-    assert!(c.found >= 0.87, "found {:.1}%", 100.0 * c.found);
+    assert!(c.rms <= 1.0, "rms {:.3} px", c.rms);
+    assert!(c.gross <= 1, "{} marks more than 20 px off", c.gross);
+    assert!(c.found >= 0.85, "found {:.1}%", 100.0 * c.found);
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
-    assert!(t.report.left_out_off_size > 0 && t.report.left_out_stray_hue > 0);
-    assert!(t.report.notes.iter().any(|n| n.contains("wider or narrower than the ring")));
-    assert!(t.report.notes.iter().any(|n| n.contains("hue strayed")));
+    let r = &t.report;
+    assert!(r.left_out_off_size > 0 && r.left_out_stray_hue > 0 && r.left_out_unchecked > 0);
+    assert!(r.notes.iter().any(|n| n.contains("wider or narrower than the ring")));
+    assert!(r.notes.iter().any(|n| n.contains("hue strayed")));
+    assert!(r.notes.iter().any(|n| n.contains("where the ring was mostly lost")));
 }
 
 /// The colour phone cut's goal, held where it stands: within 1.15 px, 87% found, no swap

@@ -11,6 +11,7 @@ pub mod brief;
 pub mod centre;
 pub mod choice;
 pub mod error;
+pub mod few;
 pub mod find;
 pub mod follow;
 pub mod frame;
@@ -231,6 +232,8 @@ pub struct TrackReport {
     pub left_out_stray_hue: usize,
     /// Marks left out, seen in fewer than 3 frames in a row between frames without (`brief`).
     pub left_out_glimpses: usize,
+    /// Marks left out with a frame of one or two where the ring is mostly lost (`few`).
+    pub left_out_unchecked: usize,
     /// Median standard error of the centres from the pixels' noise, per mark (px, per
     /// coordinate); `None` for a mark never found.
     pub centre_sigma_px: [Option<f64>; 4],
@@ -367,8 +370,9 @@ pub fn track(
     let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
     let off_size = spread::leave_out_off_size(&mut frames, &mut sigma);
     let stray_hue = stray_hue::leave_out_stray_hues(&mut frames, &mut sigma, &hues);
+    let unchecked = few::leave_out_unchecked(&mut frames, &mut sigma);
     let glimpses = brief::leave_out_glimpses(&mut frames, &mut sigma);
-    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue, glimpses };
+    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue, unchecked, glimpses };
     assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
 }
 
@@ -431,6 +435,8 @@ struct Counts {
     off_size: usize,
     /// Marks left out for a hue astray from the mark's (`stray_hue`).
     stray_hue: usize,
+    /// Marks left out with a frame of one or two (`few`).
+    unchecked: usize,
     /// Marks left out, seen in too few frames in a row (`brief`).
     glimpses: usize,
 }
@@ -447,7 +453,7 @@ fn assemble(
     sigma: Vec<[Option<f64>; 4]>,
     counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
-    let Counts { ambiguous, reacquired, joined, off_size, stray_hue, glimpses } = counts;
+    let Counts { ambiguous, reacquired, joined, off_size, stray_hue, unchecked, glimpses } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -576,6 +582,12 @@ fn assemble(
             "{off_size} marks left out in frames whose marks spread wider or narrower than the ring (a look-alike among them)"
         ));
     }
+    if unchecked > 0 {
+        notes.push(format!(
+            "{unchecked} marks left out in frames of fewer than {} marks where the ring was mostly lost: nothing checks them against the ring's figure",
+            few::LEAST_MARKS
+        ));
+    }
     if glimpses > 0 {
         notes.push(format!(
             "{glimpses} marks left out, seen in fewer than {} frames in a row between frames where the ring was lost: nothing confirms them",
@@ -641,6 +653,7 @@ fn assemble(
         left_out_off_size: off_size,
         left_out_stray_hue: stray_hue,
         left_out_glimpses: glimpses,
+        left_out_unchecked: unchecked,
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
