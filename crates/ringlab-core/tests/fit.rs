@@ -16,7 +16,7 @@ use ringlab_core::config::load_preset;
 use ringlab_core::physics::integrator::{Tolerances, dp5_along};
 use ringlab_core::physics::sample::top_centre;
 use ringlab_core::physics::{
-    EffectKind, Effects, Model, ReynoldsDrag, RunOptions, Sample, StateVec, paper,
+    EffectKind, Effects, Model, ReynoldsDrag, RunOptions, Sample, StateVec, TurnKind, paper,
 };
 use ringlab_core::recording::marks::{MarkGeometry, MarkOrder};
 use ringlab_core::recording::synth::{SynthOptions, synthesize};
@@ -153,6 +153,28 @@ fn fits_the_other_spin_other_numbering_and_missing_marks() {
     let r = run(&s.recording, &FitOptions::default());
     assert_recovers(&r, case.model.c_drag, 0.6, -4.2, "mirrored");
     assert!(r.start.phi_dot < 0.0);
+}
+
+/// A film's opening where the ring was lost leaves the recording's first frames empty, and the
+/// first turning point after them may be a maximum of theta: the fit starts at the first frame
+/// whose state the poses give (it failed before: no start state at frame 0).
+#[test]
+fn a_recording_whose_first_frames_are_empty_is_fitted_from_the_first_state() {
+    let case = load_preset("paper-ring").unwrap().build().unwrap();
+    let mut rec =
+        synthesize(&case, &SynthOptions { seed: 23, ..SynthOptions::default() }).unwrap().recording;
+    let turns = ringlab_core::recording::recover(&rec).unwrap().turning_points;
+    let max = turns.iter().find(|p| p.kind == TurnKind::ThetaMax).expect("a maximum of theta");
+    let blank = (max.at * 0.7) as usize;
+    for f in &mut rec.frames[..blank] {
+        *f = [None; 4];
+    }
+    let r = run(&rec, &FitOptions::default());
+    assert!(r.start_frame >= blank as f64, "started at {} of {blank} blank", r.start_frame);
+    assert!(r.rms_px < 0.55 && r.rms_px > 0.45, "misfit {} px for noise 0.5 px", r.rms_px);
+    for (i, &c) in case.model.c_drag.iter().enumerate() {
+        assert!(rel(r.c[i], c) < 0.10, "C{} = {}, truth {c}", i + 1, r.c[i]);
+    }
 }
 
 #[test]

@@ -120,9 +120,14 @@ impl<'r> FitRun<'r> {
         let motion = recover_with(rec, camera)?;
         self.check()?;
         // The first frame when theta rises from it, else the first minimum; the model places
-        // the turning point exactly (`start_at_turning_point`).
+        // the turning point exactly (`start_at_turning_point`). Without one, the film's start,
+        // or the first frame with a state where a film's opening is without marks (the ring
+        // lost on edge).
         let f0 = match motion.turning_points.first() {
             Some(p) if p.kind == TurnKind::ThetaMin => p.at.floor().max(0.0) as usize,
+            _ if reconstruct(&motion, 0).is_empty() => {
+                (0..rec.frames.len()).find(|&i| motion.state(i, 4, false).is_some()).unwrap_or(0)
+            }
             _ => 0,
         };
         let moving_end = motion.rest_from.unwrap_or(rec.frames.len()).max(f0);
