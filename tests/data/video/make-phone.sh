@@ -7,7 +7,8 @@
 #   make-phone.sh --test-cut [SHARED] the small cuts the tests keep (tests/data/video/)
 #
 # COVER (optional, "A B"): frames A..B of the cut covered whole in grey (a hand before the
-# lens), the truth's marks hidden there.
+# lens), the truth's marks hidden there. DROP5=1: every fifth frame of the 300 frames/s film
+# left out, so that the ring moves as far between frames as a film truly taken at 240.
 # A pixel's centre is at integer coordinates in the truth as in the tracker, so a centre
 # scaled by s is (x + 0.5) s - 0.5, as the scale filter maps pixels.
 set -eu
@@ -22,6 +23,10 @@ stand_in() {
     if [ "$cover_from" -ge 0 ]; then
         cover=",drawbox=x=0:y=0:w=iw:h=ih:color=0x7f7f7f:t=fill:enable='between(n,$cover_from,$cover_to)'"
     fi
+    keep=""
+    if [ -n "${DROP5:-}" ]; then
+        keep="*not(eq(mod(n\\,5)\\,4))"
+    fi
     src="$1/$2.mp4"
     truth="$1/$2.truth.csv"
     scale=$(awk -F'= *' '/^# px_per_mm/ {print $2}' "$truth")
@@ -31,18 +36,18 @@ stand_in() {
     nw=$(awk -v w="$w" -v s="$scale" 'BEGIN {printf "%d", int(w * 2 / s / 2 + 0.5) * 2}')
     nh=$(awk -v h="$h" -v s="$scale" 'BEGIN {printf "%d", int(h * 2 / s / 2 + 0.5) * 2}')
     ffmpeg -loglevel error -y -i "$src" \
-        -vf "select='between(n,$3,$4)',scale=$nw:$nh:flags=area,setpts=N/240/TB$cover" \
+        -vf "select='between(n,$3,$4)$keep',scale=$nw:$nh:flags=area,setpts=N/240/TB$cover" \
         -r 240 -c:v libx264 -crf "$5" -pix_fmt yuv420p "$6.mp4"
-    awk -F, -v OFS=, -v first="$3" -v last="$4" \
+    awk -F, -v OFS=, -v first="$3" -v last="$4" -v drop5="${DROP5:-}" \
         -v w="$w" -v h="$h" -v nw="$nw" -v nh="$nh" -v ca="$cover_from" -v cb="$cover_to" '
-        BEGIN { fx = nw / w; fy = nh / h }
+        BEGIN { fx = nw / w; fy = nh / h; k = 0 }
         /^# px_per_mm/ { split($0, a, "= *"); printf "# px_per_mm = %.6f\n", a[2] * (fx + fy) / 2; next }
         /^# fps/ { print "# fps = 240"; next }
         /^# image_width_px/ { print "# image_width_px = " nw; next }
         /^# image_height_px/ { print "# image_height_px = " nh; next }
         /^#/ || /^frame/ { print; next }
-        $1 >= first && $1 <= last {
-            $1 = $1 - first
+        $1 >= first && $1 <= last && !(drop5 != "" && $1 % 5 == 4) {
+            $1 = drop5 != "" ? k++ : $1 - first
             for (i = 2; i <= 9; i++) if ($1 >= ca && $1 <= cb) $i = ""; else if ($i != "") {
                 $i = sprintf("%.2f", ($i + 0.5) * (i % 2 == 0 ? fx : fy) - 0.5)
             }
@@ -83,4 +88,8 @@ for crf in 23 28; do
         last=$(awk -F, '/^[0-9]/ {n = $1} END {print n}' "$shared/$name.truth.csv")
         stand_in "$shared" "$name" 0 "$last" "$crf" "$out/$name-whole-crf$crf"
     done
+done
+for name in colours-none colours-reynolds-flicker dark-perspective; do
+    last=$(awk -F, '/^[0-9]/ {n = $1} END {print n}' "$shared/$name.truth.csv")
+    DROP5=1 stand_in "$shared" "$name" 0 "$last" 28 "$out/$name-whole-240-crf28"
 done
