@@ -4,7 +4,6 @@ use super::ExportError;
 use crate::config::Case;
 use crate::physics::Simulation;
 use crate::report::write_samples_csv;
-use std::io::{BufWriter, Write};
 use std::path::Path;
 
 /// Runs `case` from its start (as `simulate` does: every output state, not the window's
@@ -14,9 +13,8 @@ pub fn write_run_csv(case: &Case, path: &Path) -> Result<usize, ExportError> {
         .map_err(|e| ExportError::Invalid(format!("the case '{}' does not run: {e}", case.name)))?;
     let mut samples = Vec::new();
     sim.run(&mut |s| samples.push(*s));
-    let file = std::fs::File::create(path).map_err(ExportError::io(path))?;
-    let mut w = BufWriter::new(file);
-    write_samples_csv(&mut w, &samples).map_err(ExportError::io(path))?;
-    w.flush().map_err(ExportError::io(path))?;
+    let mut bytes = Vec::new();
+    write_samples_csv(&mut bytes, &samples).map_err(ExportError::io(path))?;
+    super::deliver::deliver(path, &bytes)?;
     Ok(samples.len())
 }

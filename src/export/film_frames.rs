@@ -130,7 +130,7 @@ pub fn write_film(
     path: &Path,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<FilmReport, ExportError> {
-    let clock = std::time::Instant::now();
+    let clock = web_time::Instant::now();
     let mut renderer = SceneRenderer::new(&gpu.device, None);
     let mut sink = open(path, plan)?;
     let total = plan.samples.len();

@@ -6,6 +6,7 @@
 //! `ffmpeg` found on PATH ([`mp4`]).
 
 pub mod csv;
+pub mod deliver;
 pub mod film;
 pub mod film_frames;
 pub mod frames;

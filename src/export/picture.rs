@@ -5,7 +5,7 @@ use eframe::egui;
 use image::RgbaImage;
 use std::path::Path;
 
-/// Writes `img` as a PNG; the folder must exist.
+/// Writes `img` as a PNG (a download in a web page); the folder must exist.
 pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), ExportError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
         && !dir.is_dir()
@@ -16,8 +16,10 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), ExportError> {
             dir.display()
         )));
     }
-    img.save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| ExportError::Encode { path: path.to_path_buf(), message: e.to_string() })
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png)
+        .map_err(|e| ExportError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
+    super::deliver::deliver(path, png.get_ref())
 }
 
 /// An egui screenshot as an image (egui's colours are premultiplied; a window's are opaque).

@@ -133,7 +133,7 @@ pub fn write_video(
     })?;
     spec.check(format).map_err(ExportError::Invalid)?;
     let times = spec.frame_times(source.time_unit_s()).map_err(ExportError::Invalid)?;
-    let clock = std::time::Instant::now();
+    let clock = web_time::Instant::now();
     let mut sink = open_sink(path, size, spec.fps)?;
     for (k, &t) in times.iter().enumerate() {
         let pushed =

@@ -1,6 +1,10 @@
 //! The desktop's file dialogs (rfd: File > Open recording, Open video, Open case, Save case,
 //! the exports), each on a thread of its own so that the window keeps drawing while it is open.
 //!
+//! In a web page (wasm32) there are no paths: an open dialog is the browser's file picker and
+//! gives the file's name and bytes ([`DialogOutcome::Opened`]); a save gives the name alone,
+//! and what is written with it becomes a download (`crate::session::download`).
+//!
 //! On Linux rfd asks the XDG desktop portal over D-Bus (libdbus, loaded at run time) and falls
 //! back to `zenity`; where neither is there it returns nothing, as it does when the user
 //! cancels. To tell the two apart, rfd's own log lines are caught: a failed fallback is a
@@ -8,23 +12,32 @@
 
 use super::job::Job;
 use std::path::PathBuf;
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::Mutex;
 
 /// What came of the dialog.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DialogOutcome {
     Picked(PathBuf),
+    /// A file read by a web page's picker: its name and bytes (no path on any disk).
+    Opened {
+        name: String,
+        bytes: std::sync::Arc<[u8]>,
+    },
     Cancelled,
     /// No dialog could be shown; why.
     Unavailable(String),
 }
 
 /// rfd's warnings and errors since the last dialog opened.
+#[cfg(not(target_arch = "wasm32"))]
 static RFD_LOG: Mutex<Vec<String>> = Mutex::new(Vec::new());
 
 /// Catches the log lines of rfd (and nothing else: no other crate's lines are wanted).
+#[cfg(not(target_arch = "wasm32"))]
 struct RfdLog;
 
+#[cfg(not(target_arch = "wasm32"))]
 impl log::Log for RfdLog {
     fn enabled(&self, m: &log::Metadata) -> bool {
         m.target().starts_with("rfd") && m.level() <= log::Level::Warn
@@ -42,9 +55,11 @@ impl log::Log for RfdLog {
     fn flush(&self) {}
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 static LOGGER: RfdLog = RfdLog;
 
 /// Installs the catcher once; false where another logger was there first.
+#[cfg(not(target_arch = "wasm32"))]
 fn catch_rfd_log() -> bool {
     static INSTALLED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *INSTALLED.get_or_init(|| {
@@ -56,6 +71,7 @@ fn catch_rfd_log() -> bool {
     })
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Why no dialog could be shown, from what rfd logged (None: it was shown, or cancelled);
 /// `instead` says what the user can do without one.
 fn failure(lines: &[String], instead: &str) -> Option<String> {
@@ -82,6 +98,7 @@ pub struct DialogRequest {
 }
 
 /// Opens the dialog (a thread of its own when `background`).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome> {
     Job::start("file-dialog", background, move |_| {
         // Where another logger came first a failure reads as a cancel (nothing else breaks).
@@ -110,6 +127,52 @@ pub fn run_dialog(background: bool, request: DialogRequest) -> Job<DialogOutcome
             }
         }
     })
+}
+
+/// Opens the browser's file picker (its answer comes with the file's bytes), or for a save,
+/// gives the proposed name at once: the page's files are downloads.
+#[cfg(target_arch = "wasm32")]
+pub fn run_dialog(_background: bool, request: DialogRequest) -> Job<DialogOutcome> {
+    if let Some(name) = request.save_as {
+        return Job::done(DialogOutcome::Picked(PathBuf::from(name)));
+    }
+    let (job, tx) = Job::waiting();
+    let (name, extensions) = &request.filter;
+    let dialog = rfd::AsyncFileDialog::new()
+        .set_title(&request.title)
+        .add_filter(name, extensions)
+        .add_filter("all files", &["*"]);
+    wasm_bindgen_futures::spawn_local(async move {
+        let outcome = match dialog.pick_file().await {
+            Some(file) => {
+                let bytes: std::sync::Arc<[u8]> = file.read().await.into();
+                DialogOutcome::Opened { name: file.file_name(), bytes }
+            }
+            None => DialogOutcome::Cancelled,
+        };
+        // The job may have been dropped meanwhile: nobody waits for the file then.
+        let _ = tx.send(outcome);
+    });
+    job
+}
+
+/// A file the browser reads asynchronously (one dropped on the page), as a dialog's answer.
+#[cfg(target_arch = "wasm32")]
+pub fn read_later(
+    name: String,
+    read: impl std::future::Future<Output = Result<Vec<u8>, String>> + 'static,
+) -> Job<DialogOutcome> {
+    let (job, tx) = Job::waiting();
+    wasm_bindgen_futures::spawn_local(async move {
+        let outcome = match read.await {
+            Ok(bytes) => DialogOutcome::Opened { name, bytes: bytes.into() },
+            Err(e) => {
+                DialogOutcome::Unavailable(format!("{name}: the browser could not read it: {e}"))
+            }
+        };
+        let _ = tx.send(outcome);
+    });
+    job
 }
 
 /// File > Open recording's dialog (a film is taken too: it is tracked).
@@ -145,7 +208,7 @@ pub fn pick_video(background: bool) -> Job<DialogOutcome> {
     )
 }
 
-#[cfg(test)]
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::failure;
 

@@ -142,12 +142,13 @@ impl super::RecordingSession {
         self.note = None;
         self.pending_import = None;
         let Some(options) = film_options(&self.import_options, px_per_mm) else {
-            self.pending_import = Some(super::PendingImport { error: missing_body(&path), path });
+            self.pending_import =
+                Some(super::PendingImport { error: missing_body(&path), path, bytes: None });
             return;
         };
         let p = path.clone();
         let read = move |ctx: &JobContext| track_and_load(&p, options, ctx);
-        self.loading = Some((path, super::Job::start("track-film", self.background, read)));
+        self.loading = Some((path, None, super::Job::start("track-film", self.background, read)));
     }
 
     /// Tracks the open film again with other options (the film panel's Tracking: the marks'
@@ -159,7 +160,7 @@ impl super::RecordingSession {
         self.pending_import = None;
         let p = path.clone();
         let read = move |ctx: &JobContext| track_and_load(&p, options, ctx);
-        self.loading = Some((path, super::Job::start("track-film", self.background, read)));
+        self.loading = Some((path, None, super::Job::start("track-film", self.background, read)));
     }
 
     /// File > Open video's dialog (its answer arrives through `poll`).
@@ -172,12 +173,12 @@ impl super::RecordingSession {
 
     /// Where the reading or the tracking is, while it runs.
     pub fn loading_progress(&self) -> Option<Progress> {
-        self.loading.as_ref().map(|(_, j)| j.progress())
+        self.loading.as_ref().map(|(_, _, j)| j.progress())
     }
 
     /// Asks the tracking of a film (or a reading) to stop.
     pub fn cancel_loading(&mut self) {
-        if let Some((_, j)) = &self.loading {
+        if let Some((_, _, j)) = &self.loading {
             j.cancel();
         }
     }

@@ -109,6 +109,18 @@ impl<T: Send + 'static> Job<T> {
         Job { state: State::Done(Some(result)), ctx }
     }
 
+    /// A job whose result another task delivers through the sender (a browser's promise: a
+    /// page's file picker), polled like any other.
+    pub fn waiting() -> (Job<T>, mpsc::Sender<T>) {
+        let (tx, rx) = mpsc::channel();
+        (Job { state: State::Running(rx), ctx: JobContext::default() }, tx)
+    }
+
+    /// A job already done, with this result.
+    pub fn done(result: T) -> Job<T> {
+        Job { state: State::Done(Some(result)), ctx: JobContext::default() }
+    }
+
     /// The result once it is there (taken: later calls give None), without waiting.
     pub fn poll(&mut self) -> Option<Result<T, JobLost>> {
         if let State::Running(rx) = &self.state {

@@ -9,7 +9,9 @@ use crate::config::{
 use crate::film::{TrackOptions, TrackReport};
 use crate::physics::model::ix;
 use crate::physics::{Body, EffectKind, Initial, Units, paper};
-use crate::recording::import::{Format, ImportError, ImportOptions, ImportReport, import};
+use crate::recording::import::{
+    Format, ImportError, ImportOptions, ImportReport, import, import_bytes,
+};
 use crate::recording::recover::{FrameMotion, RecoverError};
 use crate::recording::{Recording, RecoveredMotion, recover};
 use std::path::{Path, PathBuf};
@@ -55,16 +57,21 @@ impl LoadedRecording {
     /// Reads a recording (format v1) and recovers its motion (slow for long recordings: run
     /// it as a job).
     pub fn load(path: &Path) -> Result<LoadedRecording, LoadError> {
-        Self::import(path, None, &ImportOptions::default())
+        Self::import(path, None, None, &ImportOptions::default())
     }
 
-    /// Reads any file `ringlab import` reads, with what the file does not say in `opts`.
+    /// Reads any file `ringlab import` reads, with what the file does not say in `opts`: from
+    /// the disk, or where `bytes` are given (a web page's file, `path` its name), from those.
     pub fn import(
         path: &Path,
+        bytes: Option<&[u8]>,
         format: Option<Format>,
         opts: &ImportOptions,
     ) -> Result<LoadedRecording, LoadError> {
-        let imported = import(&[path.to_path_buf()], format, opts)?;
+        let imported = match bytes {
+            Some(b) => import_bytes(&[(path.to_path_buf(), b.to_vec())], format, opts)?,
+            None => import(&[path.to_path_buf()], format, opts)?,
+        };
         let recording = imported.recording;
         let motion = recover(&recording)
             .map_err(|source| LoadError::Recover { path: path.to_path_buf(), source })?;

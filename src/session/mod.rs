@@ -67,7 +67,7 @@ pub struct RecordingSession {
     /// Jobs on threads (the live window) or at once (tests, pictures).
     background: bool,
     loaded: Option<LoadedRecording>,
-    loading: Option<(PathBuf, Job<Result<LoadedRecording, LoadError>>)>,
+    loading: Option<(PathBuf, Option<Arc<[u8]>>, Job<Result<LoadedRecording, LoadError>>)>,
     dialog: Option<Job<DialogOutcome>>,
     fitting: Option<Job<Result<(FitResult, Option<Arc<ModelMarks>>), FitError>>>,
     fitted: Option<Fitted>,
@@ -95,6 +95,8 @@ pub struct RecordingSession {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PendingImport {
     pub path: PathBuf,
+    /// The file's bytes where it has no path on a disk (a web page's file).
+    pub bytes: Option<Arc<[u8]>>,
     pub error: ImportError,
 }
 
@@ -136,7 +138,7 @@ impl RecordingSession {
                 let px_per_mm = self.import_options.px_per_mm.filter(|_| scale);
                 self.open_film(p.path, px_per_mm);
             } else {
-                self.open(p.path);
+                self.open_with(p.path, p.bytes);
             }
         }
     }
@@ -175,7 +177,7 @@ impl RecordingSession {
 
     /// The file being read, if any.
     pub fn loading(&self) -> Option<&Path> {
-        self.loading.as_ref().map(|(p, _)| p.as_path())
+        self.loading.as_ref().map(|(p, _, _)| p.as_path())
     }
 
     pub fn dialog_open(&self) -> bool {
@@ -208,19 +210,43 @@ impl RecordingSession {
         }
     }
 
+    /// Opens the file once `read` (a page's file being read) gives it, as a dialog's answer.
+    pub fn open_when_read(&mut self, read: Job<DialogOutcome>) {
+        self.note = None;
+        self.dialog = Some(read);
+    }
+
     /// Starts reading `path` (the dialog's and drag-and-drop's way in). A fit of the previous
     /// recording is stopped; the previous recording stays until the new one is read.
     pub fn open(&mut self, path: PathBuf) {
+        self.open_with(path, None)
+    }
+
+    /// Starts reading a file handed over with its bytes and no path on a disk (a web page's
+    /// file, dropped or picked: `name` is its name).
+    pub fn open_bytes(&mut self, name: &str, bytes: Arc<[u8]>) {
+        self.open_with(PathBuf::from(name), Some(bytes))
+    }
+
+    fn open_with(&mut self, path: PathBuf, bytes: Option<Arc<[u8]>>) {
         if crate::film::is_film(&path) {
+            if bytes.is_some() {
+                self.error = Some(format!(
+                    "{}: films are tracked by the desktop app (it decodes them with ffmpeg), not \
+                     in a web page; track it there (`ringlab track`) and open the recording here",
+                    path.display()
+                ));
+                return;
+            }
             return self.open_film(path, None);
         }
         self.error = None;
         self.note = None;
         self.pending_import = None;
-        let p = path.clone();
+        let (p, b) = (path.clone(), bytes.clone());
         let (format, opts) = (self.import_format, self.import_options.clone());
-        let read = move |_: &_| LoadedRecording::import(&p, format, &opts);
-        self.loading = Some((path, Job::start("read-recording", self.background, read)));
+        let read = move |_: &_| LoadedRecording::import(&p, b.as_deref(), format, &opts);
+        self.loading = Some((path, bytes, Job::start("read-recording", self.background, read)));
     }
 
     /// Forgets the recording (a running fit or diagnosis stops).
@@ -318,6 +344,7 @@ impl RecordingSession {
             self.dialog = None;
             match outcome {
                 Ok(DialogOutcome::Picked(p)) => self.open(p),
+                Ok(DialogOutcome::Opened { name, bytes }) => self.open_bytes(&name, bytes),
                 Ok(DialogOutcome::Cancelled) => {}
                 Ok(DialogOutcome::Unavailable(why)) => self.note = Some(why),
                 Err(JobLost) => {
@@ -327,12 +354,12 @@ impl RecordingSession {
                 }
             }
         }
-        if let Some(done) = self.loading.as_mut().and_then(|(_, j)| j.poll()) {
-            let path = self.loading.take().map(|(p, _)| p).unwrap_or_default();
+        if let Some(done) = self.loading.as_mut().and_then(|(_, _, j)| j.poll()) {
+            let (path, bytes) = self.loading.take().map(|(p, b, _)| (p, b)).unwrap_or_default();
             match done {
                 Ok(Ok(l)) => events.push(self.adopt_loaded(l)),
                 Ok(Err(LoadError::Read(e))) if e.kind.needs_options() => {
-                    self.pending_import = Some(PendingImport { path, error: e })
+                    self.pending_import = Some(PendingImport { path, bytes, error: e })
                 }
                 Ok(Err(LoadError::Cancelled)) => {
                     self.note = Some("the tracking was cancelled".into())
@@ -391,7 +418,7 @@ impl RecordingSession {
         let mut events = Vec::new();
         while self.busy() {
             self.dialog.iter_mut().for_each(Job::finish);
-            self.loading.iter_mut().for_each(|(_, j)| j.finish());
+            self.loading.iter_mut().for_each(|(_, _, j)| j.finish());
             self.fitting.iter_mut().for_each(Job::finish);
             self.diagnosing.iter_mut().for_each(Job::finish);
             self.film_frames.iter_mut().for_each(FilmFrames::finish);

@@ -1,6 +1,8 @@
 //! The integrator thread and its two channels: commands in (unbounded, rare), events out
 //! (bounded: the back-pressure that keeps the worker a fixed number of states ahead of the
-//! display).
+//! display). Where no thread can be had (a web page: wasm32 has one thread) the same runs are
+//! integrated in slices on the caller's thread instead, as far as each frame needs and within a
+//! time budget, so the frame stays on time (`Inline`).
 
 pub use super::event::{Event, RunEnd};
 use super::track::Track;
@@ -23,6 +25,9 @@ pub const CHANNEL_CAPACITY: usize = 1024;
 const FULL_WAIT: Duration = Duration::from_millis(1);
 /// Output samples integrated per slice between looks at the command channel.
 const SLICE_SAMPLES: f64 = 16.0;
+/// The longest one `pump` integrates in place (no thread): a frame at 60 Hz has 16.7 ms, and
+/// the window pumps twice a frame.
+const INLINE_BUDGET: Duration = Duration::from_millis(5);
 
 /// Where a run starts.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,8 +48,17 @@ pub enum SimError {
     Spawn(#[from] std::io::Error),
 }
 
-/// The UI's end of one integrator thread, with the track of what it has received.
+/// The runs integrated on the caller's thread where there is no integrator thread.
+#[derive(Default)]
+struct Inline {
+    current: Option<Running>,
+    pending: VecDeque<Event>,
+}
+
+/// The UI's end of one integrator thread (or of the runs integrated in place), with the track
+/// of what it has received.
 pub struct SimHandle {
+    inline: Option<Inline>,
     commands: Option<Sender<Command>>,
     events: Option<Receiver<Event>>,
     thread: Option<JoinHandle<()>>,
@@ -69,6 +83,7 @@ impl SimHandle {
             .name("ringlab-integrator".into())
             .spawn(move || worker(cmd_rx, ev_tx, &counter))?;
         let mut handle = SimHandle {
+            inline: None,
             commands: Some(cmd_tx),
             events: Some(ev_rx),
             thread: Some(thread),
@@ -80,6 +95,37 @@ impl SimHandle {
         };
         handle.start(case, Start::Initial);
         Ok(handle)
+    }
+
+    /// A run of `case` integrated on this thread, in slices as [`SimHandle::pump`] needs them
+    /// (where no thread can be had: a web page).
+    pub fn in_place(case: Case) -> SimHandle {
+        let mut handle = SimHandle {
+            inline: Some(Inline::default()),
+            commands: None,
+            events: None,
+            thread: None,
+            run: 0,
+            sent: Arc::new(AtomicU64::new(0)),
+            taken: 0,
+            track: Track::new(0, case.clone()),
+            previous: None,
+        };
+        handle.start(case, Start::Initial);
+        handle
+    }
+
+    /// The integrator thread, or where none can be had, the run in place.
+    pub fn spawn_or_in_place(case: Case) -> SimHandle {
+        if cfg!(target_arch = "wasm32") {
+            return SimHandle::in_place(case);
+        }
+        SimHandle::spawn(case.clone()).unwrap_or_else(|_| SimHandle::in_place(case))
+    }
+
+    /// Whether the runs are integrated on the caller's thread.
+    pub fn is_in_place(&self) -> bool {
+        self.inline.is_some()
     }
 
     /// The number of the newest run asked for.
@@ -130,6 +176,11 @@ impl SimHandle {
 
     fn send(&mut self, case: Case, start: Start) {
         self.run += 1;
+        if let Some(inline) = &mut self.inline {
+            let cmd = Command::Run { run: self.run, case: Box::new(case), start };
+            start_run(cmd, &mut inline.current, &mut inline.pending);
+            return;
+        }
         if let Some(tx) = &self.commands {
             // A send fails only when the worker has gone (it panicked); the track then stays
             // empty and the UI shows that nothing arrives.
@@ -141,11 +192,14 @@ impl SimHandle {
     /// while the track holds none at or beyond `until` (so the worker stays a channel's
     /// length ahead instead of running to the end at once). Returns how many were taken.
     pub fn pump(&mut self, until: f64) -> usize {
-        let Some(rx) = &self.events else { return 0 };
-        let mut taken = 0;
         if !self.track.samples().is_empty() {
             self.previous = None;
         }
+        if self.inline.is_some() {
+            return self.pump_in_place(until);
+        }
+        let Some(rx) = &self.events else { return 0 };
+        let mut taken = 0;
         while self.track.last_time().is_none_or(|t| t < until) && !self.track.is_finished() {
             match rx.try_recv() {
                 Ok(ev) => {
@@ -156,6 +210,30 @@ impl SimHandle {
                     }
                 }
                 Err(TryRecvError::Empty | TryRecvError::Disconnected) => break,
+            }
+        }
+        taken
+    }
+
+    /// [`SimHandle::pump`] without a thread: integrates slices here until the track reaches
+    /// `until`, the run ends, or the frame's budget is spent.
+    fn pump_in_place(&mut self, until: f64) -> usize {
+        let Some(inline) = &mut self.inline else { return 0 };
+        let clock = web_time::Instant::now();
+        let mut taken = 0;
+        while self.track.last_time().is_none_or(|t| t < until) && !self.track.is_finished() {
+            let Some(ev) = inline.pending.pop_front() else {
+                if clock.elapsed() > INLINE_BUDGET
+                    || !produce_or_end(&mut inline.current, &mut inline.pending)
+                {
+                    break;
+                }
+                continue;
+            };
+            taken += 1;
+            self.taken += 1;
+            if ev.run() == self.run {
+                self.track.apply(ev);
             }
         }
         taken
@@ -172,9 +250,9 @@ impl SimHandle {
         self.taken
     }
 
-    /// Whether the worker thread is still alive.
+    /// Whether the worker thread is still alive (a run in place always is).
     pub fn is_alive(&self) -> bool {
-        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+        self.inline.is_some() || self.thread.as_ref().is_some_and(|t| !t.is_finished())
     }
 }
 
@@ -283,21 +361,28 @@ fn worker(commands: Receiver<Command>, events: SyncSender<Event>, sent: &AtomicU
             continue;
         }
 
-        if let Some(r) = &mut current
-            && r.produce(&mut pending)
-            && let Some(r) = current.take()
-        {
-            let run = r.run;
-            let summary = r.sim.finish();
-            let end = RunEnd {
-                reason: summary.end_reason,
-                t_end: summary.t_end,
-                lift_off: summary.lift_off,
-                slip: summary.slip,
-            };
-            pending.push_back(Event::Ended { run, end });
-        }
+        produce_or_end(&mut current, &mut pending);
     }
+}
+
+/// Integrates one slice of the current run into `pending`, and once it ends, its summary.
+/// False where there was no run to integrate.
+fn produce_or_end(current: &mut Option<Running>, pending: &mut VecDeque<Event>) -> bool {
+    let Some(r) = current else { return false };
+    if r.produce(pending)
+        && let Some(r) = current.take()
+    {
+        let run = r.run;
+        let summary = r.sim.finish();
+        let end = RunEnd {
+            reason: summary.end_reason,
+            t_end: summary.t_end,
+            lift_off: summary.lift_off,
+            slip: summary.slip,
+        };
+        pending.push_back(Event::Ended { run, end });
+    }
+    true
 }
 
 fn start_run(cmd: Command, current: &mut Option<Running>, pending: &mut VecDeque<Event>) {

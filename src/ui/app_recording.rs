@@ -10,6 +10,10 @@ use crate::config::CaseFile;
 use crate::session::SessionEvent;
 use eframe::egui;
 
+/// The sample recording (`tests/data/sample-ring.csv`), built in so that a page (no disk) and
+/// a fresh install have a recording to try.
+const SAMPLE_RECORDING: &[u8] = include_bytes!("../../tests/data/sample-ring.csv");
+
 impl RinglabApp {
     /// Opens a recording (the file dialog's and drag-and-drop's way in): read and recovered
     /// off the UI thread, or at once in fixed mode. A film is tracked first.
@@ -19,7 +23,28 @@ impl RinglabApp {
         self.take_recording_events();
     }
 
+    /// Opens a recording handed over with its bytes (a web page's file).
+    pub fn open_recording_bytes(&mut self, name: &str, bytes: std::sync::Arc<[u8]>) {
+        self.recording.open_bytes(name, bytes);
+        self.side_tab = SideTab::Recording;
+        self.take_recording_events();
+    }
+
+    /// Files dropped onto the page this frame: the first is read (a browser reads files
+    /// asynchronously) and then opened.
+    #[cfg(target_arch = "wasm32")]
+    pub(super) fn take_dropped_files(&mut self, ctx: &egui::Context) {
+        let first = ctx.input(|i| i.raw.dropped_files.first().cloned());
+        if let Some(file) = first {
+            let name = file.path().display().to_string();
+            let read = async move { file.bytes_async().await };
+            self.recording.open_when_read(crate::session::file_dialog::read_later(name, read));
+            self.side_tab = SideTab::Recording;
+        }
+    }
+
     /// Files dropped onto the window this frame: the first is opened.
+    #[cfg(not(target_arch = "wasm32"))]
     pub(super) fn take_dropped_files(&mut self, ctx: &egui::Context) {
         let dropped: Vec<std::path::PathBuf> =
             ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
@@ -88,6 +113,10 @@ impl RinglabApp {
         match action {
             A::None => {}
             A::Open => self.recording.open_dialog(),
+            A::OpenSample => {
+                let bytes: std::sync::Arc<[u8]> = SAMPLE_RECORDING.into();
+                self.recording.open_bytes("sample-ring.csv", bytes);
+            }
             A::OpenVideo => self.recording.open_video_dialog(),
             A::CancelOpen => self.recording.cancel_loading(),
             A::Close => self.recording.close(),

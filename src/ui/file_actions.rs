@@ -10,7 +10,7 @@ use super::menus::MenuAction;
 use super::presentation::{Zoom, zoom_keys};
 use super::recording_panel::RecordingAction;
 use super::{Detail3d, Mode, RinglabApp, SideTab};
-use crate::config::{CaseFile, load_case_file, save_case_file};
+use crate::config::{CaseFile, load_case_file};
 use crate::export::csv::write_run_csv;
 use crate::export::picture::{from_color_image, save_png};
 use crate::export::session::{FileTask, Outcome, PictureKind, VideoRequest, describe_video};
@@ -189,6 +189,7 @@ impl RinglabApp {
         if let Some((task, outcome)) = self.exports.poll_dialog() {
             match outcome {
                 DialogOutcome::Picked(p) => self.file_chosen(task, p),
+                DialogOutcome::Opened { name, bytes } => self.file_opened(task, &name, &bytes),
                 DialogOutcome::Cancelled => {}
                 DialogOutcome::Unavailable(why) => self.recording.note = Some(why),
             }
@@ -216,15 +217,22 @@ impl RinglabApp {
     /// Does what the path was chosen for (the dialog's answer; tests call it with their own).
     pub fn file_chosen(&mut self, task: FileTask, path: PathBuf) {
         let path = with_extension(&task, path);
+        let needs_desktop = matches!(
+            task,
+            FileTask::Picture(PictureKind::View3d) | FileTask::Video(_) | FileTask::FilmOverlay
+        );
+        if cfg!(target_arch = "wasm32") && needs_desktop {
+            return self.say(Err(format!("{}: {}", path.display(), super::menus::DESKTOP_ONLY)));
+        }
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             self.exports.last_folder = Some(dir.to_path_buf());
         }
         match task {
             FileTask::OpenCase => self.open_case(&path),
             FileTask::SaveCase => {
-                let o = save_case_file(&path, self.edited_case())
+                let o = crate::export::deliver::save_case(&path, self.edited_case())
                     .map(|()| format!("saved the case to {}", path.display()));
-                self.say(o.map_err(|e| e.to_string()));
+                self.say(o);
             }
             FileTask::ExportCsv => self.export_csv(path),
             FileTask::Picture(PictureKind::Window) => {
@@ -277,7 +285,27 @@ impl RinglabApp {
 
     /// Reads a case file into the case the sliders edit (`ringlab --config` at the start).
     pub fn open_case(&mut self, path: &Path) {
-        match load_case_file(path) {
+        self.adopt_case_file(load_case_file(path), path);
+    }
+
+    /// A file a web page's picker read (no path on a disk): only a case is ever opened so.
+    fn file_opened(&mut self, task: FileTask, name: &str, bytes: &[u8]) {
+        let path = Path::new(name);
+        match task {
+            FileTask::OpenCase => match std::str::from_utf8(bytes) {
+                Ok(text) => self.adopt_case_file(crate::config::CaseFile::parse(text, path), path),
+                Err(_) => self.say(Err(format!("{name}: not a text file (a case is TOML)"))),
+            },
+            _ => self.say(Err(format!("{name}: only a case is opened here"))),
+        }
+    }
+
+    fn adopt_case_file(
+        &mut self,
+        file: Result<crate::config::CaseFile, crate::config::ConfigError>,
+        path: &Path,
+    ) {
+        match file {
             Ok(f) => {
                 let name = f.name.clone();
                 if self.settings.compare && self.settings.edit_second {

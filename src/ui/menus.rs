@@ -42,6 +42,12 @@ fn item(
     }
 }
 
+/// A web page has no ffmpeg to decode or encode video and cannot read the 3D view back from
+/// the GPU at once: what needs either is said on the item instead of offered.
+pub const DESKTOP_ONLY: &str = "in the desktop app only (ringlab for Windows, Linux, or built \
+     from source): a web page has no ffmpeg to decode or encode video, nor a way to read the 3D \
+     view back from the GPU at once; Save picture of the window works here";
+
 /// The File menu.
 pub fn file_menu_ui(
     ui: &mut egui::Ui,
@@ -51,9 +57,11 @@ pub fn file_menu_ui(
     let mut a = MenuAction::None;
     ui.menu_button("File", |ui| {
         let idle = !exports.dialog_open();
+        let web = cfg!(target_arch = "wasm32");
+        let desktop = |hover: &'static str| if web { DESKTOP_ONLY } else { hover };
         let rec = |r| MenuAction::Recording(r);
         item(ui, !recording.dialog_open(), "Open recording…", "", "a recording of a ring's marks (format v1), or a tracker's file (DeepLabCut, Tracker, TrackMate, a plain CSV); or drop the file onto the window", rec(RecordingAction::Open), &mut a);
-        item(ui, !recording.dialog_open(), "Open video…", "", "a film of a ring with four marks (MP4, MOV, AVI, MKV: ffmpeg decodes it): its marks are tracked into a recording, and the film is shown with them drawn over it; the body is the import options' (asked for the first time)", rec(RecordingAction::OpenVideo), &mut a);
+        item(ui, !web && !recording.dialog_open(), "Open video…", "", desktop("a film of a ring with four marks (MP4, MOV, AVI, MKV: ffmpeg decodes it): its marks are tracked into a recording, and the film is shown with them drawn over it; the body is the import options' (asked for the first time)"), rec(RecordingAction::OpenVideo), &mut a);
         item(ui, recording.loaded().is_some(), "Close recording", "", "forget the recording", rec(RecordingAction::Close), &mut a);
         ui.separator();
         let file = MenuAction::File;
@@ -63,10 +71,10 @@ pub fn file_menu_ui(
         ui.separator();
         let picture = |k| MenuAction::File(FileTask::Picture(k));
         item(ui, idle, "Save picture of the window…", "F12", "a PNG of the window as it is (F12 saves one at once, without asking where)", picture(PictureKind::Window), &mut a);
-        item(ui, idle, "Save picture of the 3D view…", "Shift+F12", "a PNG of the 3D view alone, every pixel drawn (Shift+F12: at once)", picture(PictureKind::View3d), &mut a);
-        item(ui, idle, "Export video…", "", "the run as a GIF or an MP4: the 3D view, the trace or the window", MenuAction::VideoDialog, &mut a);
+        item(ui, idle && !web, "Save picture of the 3D view…", "Shift+F12", desktop("a PNG of the 3D view alone, every pixel drawn (Shift+F12: at once)"), picture(PictureKind::View3d), &mut a);
+        item(ui, idle && !web, "Export video…", "", desktop("the run as a GIF or an MP4: the 3D view, the trace or the window"), MenuAction::VideoDialog, &mut a);
         let film = recording.loaded().is_some_and(|l| l.film.is_some());
-        item(ui, idle && film, "Export film with overlay…", "", "the film the recording was tracked from, as an MP4, with the tracked marks and, once fitted or diagnosed, the model's marks and path of A drawn over it", file(FileTask::FilmOverlay), &mut a);
+        item(ui, idle && film && !web, "Export film with overlay…", "", desktop("the film the recording was tracked from, as an MP4, with the tracked marks and, once fitted or diagnosed, the model's marks and path of A drawn over it"), file(FileTask::FilmOverlay), &mut a);
     });
     a
 }

@@ -48,8 +48,9 @@ use eframe::egui;
 use presentation::Presentation;
 use settings::builtin;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use video_dialog::VideoDialog;
+use web_time::Instant;
 
 /// Live (threads, wall clock) or fixed at one time (computed at once, paused: tests, PNGs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,10 +72,10 @@ struct Run {
 
 impl Run {
     fn new(case: Case, live: bool) -> Run {
-        if live && let Ok(h) = SimHandle::spawn(case.clone()) {
-            return Run { source: Source::Live(h) };
+        if live {
+            // No thread to be had (a web page): the run is integrated in slices between frames.
+            return Run { source: Source::Live(SimHandle::spawn_or_in_place(case)) };
         }
-        // No thread to be had: compute in place instead.
         Run { source: Source::Fixed(Track::compute(case)) }
     }
 
@@ -557,8 +558,39 @@ impl eframe::App for RinglabApp {
     }
 }
 
+/// The app as the window (desktop or page) starts it: the renderer installed on eframe's wgpu
+/// device, the settings kept from the last session (or `case` instead), running live.
+pub fn create_app(
+    cc: &eframe::CreationContext<'_>,
+    case: Option<crate::config::CaseFile>,
+) -> RinglabApp {
+    if let Some(rs) = &cc.wgpu_render_state {
+        crate::render::callback::install(rs);
+        adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
+    }
+    let mut settings: Settings =
+        cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
+    if let Some(f) = case {
+        settings.preset = f.name.clone();
+        settings.case = f;
+        settings.compare = false;
+        settings.edit_second = false;
+    }
+    let mut app = RinglabApp::new(settings, Mode::Live);
+    if let Some(rs) = &cc.wgpu_render_state {
+        let gpu = Gpu {
+            device: rs.device.clone(),
+            queue: rs.queue.clone(),
+            adapter: rs.adapter.get_info(),
+        };
+        app.set_gpu(gpu);
+    }
+    app
+}
+
 /// Opens the window (`ringlab` with no arguments; `case`: `ringlab --config FILE`, run instead
 /// of the case kept from the last session).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::Error> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -566,32 +598,5 @@ pub fn run_window(case: Option<crate::config::CaseFile>) -> Result<(), eframe::E
             .with_inner_size([1480.0, 920.0]),
         ..Default::default()
     };
-    eframe::run_native(
-        "ringlab",
-        options,
-        Box::new(|cc| {
-            if let Some(rs) = &cc.wgpu_render_state {
-                crate::render::callback::install(rs);
-                adapt_to_adapter(&cc.egui_ctx, &rs.adapter.get_info());
-            }
-            let mut settings: Settings =
-                cc.storage.and_then(|s| eframe::get_value(s, SETTINGS_KEY)).unwrap_or_default();
-            if let Some(f) = case {
-                settings.preset = f.name.clone();
-                settings.case = f;
-                settings.compare = false;
-                settings.edit_second = false;
-            }
-            let mut app = RinglabApp::new(settings, Mode::Live);
-            if let Some(rs) = &cc.wgpu_render_state {
-                let gpu = Gpu {
-                    device: rs.device.clone(),
-                    queue: rs.queue.clone(),
-                    adapter: rs.adapter.get_info(),
-                };
-                app.set_gpu(gpu);
-            }
-            Ok(Box::new(app))
-        }),
-    )
+    eframe::run_native("ringlab", options, Box::new(|cc| Ok(Box::new(create_app(cc, case)))))
 }

@@ -13,7 +13,7 @@ use crate::physics::effects::EffectKind;
 use crate::recording::{Camera, Recording};
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use web_time::Instant;
 
 /// A camera candidate that improved on the baseline but still misses beyond the noise is
 /// fitted again from a multiple-shooting fit made with the camera it found. The baseline's

@@ -107,7 +107,7 @@ pub fn fit_candidate(
     kind: EffectKind,
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<WholeFit, LmError> {
-    let clock = std::time::Instant::now();
+    let clock = web_time::Instant::now();
     let join = levels.first().ok_or(LmError::BadStart)?;
     let ceiling = |segments: usize| {
         levels
@@ -422,7 +422,7 @@ pub fn fit_pair(
     second_fit: &WholeFit,
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<WholeFit, LmError> {
-    let clock = std::time::Instant::now();
+    let clock = web_time::Instant::now();
     let shaped = extras_of(&first_fit.extras, EffectKind::ReynoldsDrag)
         .first()
         .is_some_and(|(share, _)| *share != 0.0);

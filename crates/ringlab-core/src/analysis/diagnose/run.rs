@@ -29,7 +29,7 @@ use crate::recording::tracks::{CheckedTracks, check_tracks, with_more_glitches};
 use crate::recording::{FrameMarks, MARKS, Recording};
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use web_time::Instant;
 
 fn lm_error(e: LmError) -> DiagnoseError {
     match e {

@@ -187,7 +187,7 @@ pub fn fit_path(
     ceiling: &dyn Fn(usize) -> f64,
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
-    let clock = std::time::Instant::now();
+    let clock = web_time::Instant::now();
     let kinds = fitted_kinds(sh);
     let kind = kinds.last().copied().unwrap_or(EffectKind::None);
     let walked = walk(sh, global, states, ceiling, on_iteration, kind)?;

@@ -20,7 +20,7 @@ use crate::recording::tracks::{CheckedTracks, as_tracked, check_tracks};
 use crate::recording::{Camera, Recording};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use web_time::Instant;
 
 /// Fits the model to a recording. `progress` is called from worker threads; `cancel` stops
 /// the fit at the next evaluation with [`FitError::Cancelled`].

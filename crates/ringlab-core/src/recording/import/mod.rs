@@ -317,18 +317,29 @@ pub fn import(
     from: Option<Format>,
     opts: &ImportOptions,
 ) -> Result<Imported, ImportError> {
-    let first = paths.first().ok_or_else(|| {
-        ImportError::new(Path::new("-"), None, ImportErrorKind::BadOption("no file given".into()))
-    })?;
     let mut files = Vec::with_capacity(paths.len());
     for p in paths {
         let bytes = std::fs::read(p)
             .map_err(|e| ImportError::new(p, None, ImportErrorKind::Io(e.to_string())))?;
-        if bytes.iter().all(u8::is_ascii_whitespace) {
-            return Err(ImportError::new(p, None, ImportErrorKind::Empty));
-        }
         files.push((p.clone(), bytes));
     }
+    import_bytes(&files, from, opts)
+}
+
+/// [`import`] of files already read (a web page's: their names, and their bytes).
+pub fn import_bytes(
+    files: &[(PathBuf, Vec<u8>)],
+    from: Option<Format>,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let first = files.first().map(|(p, _)| p.as_path()).ok_or_else(|| {
+        ImportError::new(Path::new("-"), None, ImportErrorKind::BadOption("no file given".into()))
+    })?;
+    if let Some((p, _)) = files.iter().find(|(_, b)| b.iter().all(u8::is_ascii_whitespace)) {
+        return Err(ImportError::new(p, None, ImportErrorKind::Empty));
+    }
+    let paths: Vec<PathBuf> = files.iter().map(|(p, _)| p.clone()).collect();
+    let paths = paths.as_slice();
     let detected = Source::detect(first, &files[0].1);
     let source = match (from, detected) {
         (_, Some(Source::Ringlab)) => Source::Ringlab,
@@ -372,7 +383,7 @@ pub fn import(
             one("a Tracker project")?;
             trk::read(first, &files[0].1)?
         }
-        Source::TrackerTable => tracker::read(&files, opts)?,
+        Source::TrackerTable => tracker::read(files, opts)?,
     };
     points::assemble(tracks, source, paths, opts)
 }
