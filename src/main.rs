@@ -1,3 +1,4 @@
+#![cfg_attr(windows, windows_subsystem = "windows")]
 //! The `ringlab` command: without a subcommand it opens the window (`--config CASE.toml`: with
 //! that case); subcommands run headless.
 
@@ -55,6 +56,7 @@ enum Command {
 }
 
 fn main() -> Result<()> {
+    cli::windows_console::attach();
     let cli = Cli::parse();
     match cli.command {
         Some(Command::Simulate(a)) => cli::simulate::run(&a),

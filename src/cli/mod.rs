@@ -24,3 +24,4 @@ pub mod simulate;
 pub mod sweep;
 pub mod synth;
 pub mod track;
+pub mod windows_console;
