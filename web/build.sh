@@ -56,7 +56,7 @@ cargo "${cargo_args[@]}"
 mkdir -p "$out"
 wasm-bindgen --target web --no-typescript --out-dir "$out" \
   "$CARGO_TARGET_DIR/$target/release/ringlab_web.wasm"
-cp web/index.html "$out/index.html"
+cp web/index.html web/worker.js "$out/"
 # The sample recording, for links that open it (index.html?recording=sample-ring.csv&fit=1).
 cp tests/data/sample-ring.csv "$out/sample-ring.csv"
 echo "web/build.sh: site in $out ($(( $(date +%s) - start )) s):"

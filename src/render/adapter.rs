@@ -12,7 +12,9 @@ use eframe::egui;
 pub fn adapt_to_adapter(ctx: &egui::Context, adapter: &eframe::wgpu::AdapterInfo) {
     let software = adapter.device_type == eframe::wgpu::DeviceType::Cpu;
     ctx.data_mut(|d| d.insert_temp(software_adapter_id(), software));
-    lean_paint::set_enabled(ctx, software);
+    // The lean painter is for lavapipe's cost per pixel; a browser's software WebGL has no
+    // base vertex for its draws (WebGL2 lacks it), and egui-wgpu's painter is drawn there.
+    lean_paint::set_enabled(ctx, software && !cfg!(target_arch = "wasm32"));
     if software {
         ctx.tessellation_options_mut(|t| t.feathering = false);
         ctx.all_styles_mut(|s| {

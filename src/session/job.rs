@@ -116,6 +116,11 @@ impl<T: Send + 'static> Job<T> {
         (Job { state: State::Running(rx), ctx: JobContext::default() }, tx)
     }
 
+    /// What the work sees, for work that reports from elsewhere (a web page's worker).
+    pub fn context(&self) -> JobContext {
+        self.ctx.clone()
+    }
+
     /// A job already done, with this result.
     pub fn done(result: T) -> Job<T> {
         Job { state: State::Done(Some(result)), ctx: JobContext::default() }

@@ -18,6 +18,7 @@ mod fitting;
 pub mod job;
 mod loaded;
 pub mod overlay;
+pub mod page_worker;
 
 pub use diagnosing::Diagnosed;
 pub use film::{ModelMarks, diagnosed_marks};
@@ -80,6 +81,9 @@ pub struct RecordingSession {
     /// The model's marks drawn over a film: the fit's, the diagnosis's chosen model's once
     /// diagnosed, or the model last put in the simulator.
     model_marks: Option<Arc<ModelMarks>>,
+    /// The web page's worker of the running fit (ended on Cancel).
+    #[cfg(target_arch = "wasm32")]
+    fit_worker: Option<page_worker::PageWorker>,
     /// A problem to show until dismissed (a file that could not be read, a failed fit).
     pub error: Option<String>,
     /// Something to know that is no error (a cancelled fit, no dialog).
@@ -114,6 +118,8 @@ impl RecordingSession {
             offset_s: 0.0,
             film_frames: None,
             model_marks: None,
+            #[cfg(target_arch = "wasm32")]
+            fit_worker: None,
             error: None,
             note: None,
             import_options: ImportOptions::default(),
@@ -254,6 +260,10 @@ impl RecordingSession {
         self.loaded = None;
         self.fitted = None;
         self.fitting = None;
+        #[cfg(target_arch = "wasm32")]
+        {
+            self.fit_worker = None;
+        }
         self.diagnosed = None;
         self.diagnosing = None;
         self.loading = None;
@@ -273,6 +283,12 @@ impl RecordingSession {
         let rec = Arc::clone(&l.recording);
         let background = self.background;
         let film = l.film.is_some();
+        #[cfg(target_arch = "wasm32")]
+        if background && let Some((job, worker)) = page_worker::fit_in_worker(&rec) {
+            self.fitting = Some(job);
+            self.fit_worker = Some(worker);
+            return;
+        }
         self.fitting = Some(Job::start("fit", background, move |ctx| {
             let r = run_fit(&rec, ctx, background)?;
             let marks = film.then(|| Arc::new(r.predicted_marks(&rec.frames)));
@@ -284,6 +300,12 @@ impl RecordingSession {
     pub fn cancel_fit(&mut self) {
         if let Some(j) = &self.fitting {
             j.cancel();
+        }
+        // A worker has no flag to look at: it is ended, and the fit with it.
+        #[cfg(target_arch = "wasm32")]
+        if self.fit_worker.take().is_some() {
+            self.fitting = None;
+            self.note = Some("the fit was cancelled".into());
         }
     }
 
@@ -378,6 +400,10 @@ impl RecordingSession {
         }
         if let Some(done) = self.fitting.as_mut().and_then(|j| j.poll()) {
             self.fitting = None;
+            #[cfg(target_arch = "wasm32")]
+            {
+                self.fit_worker = None;
+            }
             match done {
                 Ok(Ok((r, marks))) => events.extend(self.adopt_fit(r, marks)),
                 Ok(Err(FitError::Cancelled)) => self.note = Some("the fit was cancelled".into()),

@@ -541,6 +541,11 @@ impl eframe::App for RinglabApp {
         self.ui_root(ui);
     }
 
+    /// A web page's script reaches the app through this (`WebRunner::app_mut`).
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
+    }
+
     fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
         // The panels are not filled (see ui_root): the window's background is theirs.
         visuals.panel_fill.to_normalized_gamma_f32()

@@ -21,8 +21,9 @@ impl WebHandle {
     }
 
     /// Starts the app on the canvas with this id; settles once it runs (or with the reason
-    /// it could not: no WebGPU nor WebGL2, no such canvas).
-    pub async fn start(&self, canvas_id: &str) -> Result<(), JsValue> {
+    /// it could not: no WebGPU nor WebGL2, no such canvas). `backend`: "webgpu" or "webgl"
+    /// alone (anything else: WebGPU where the browser has it, WebGL2 otherwise).
+    pub async fn start(&self, canvas_id: &str, backend: Option<String>) -> Result<(), JsValue> {
         let document = web_sys::window()
             .and_then(|w| w.document())
             .ok_or_else(|| JsValue::from_str("no document: ringlab must run in a page"))?;
@@ -31,7 +32,17 @@ impl WebHandle {
             .ok_or_else(|| JsValue::from_str(&format!("no element #{canvas_id} in the page")))?
             .dyn_into::<web_sys::HtmlCanvasElement>()
             .map_err(|_| JsValue::from_str(&format!("#{canvas_id} is not a canvas")))?;
-        let options = eframe::WebOptions::default();
+        let mut options = eframe::WebOptions::default();
+        let backends = match backend.as_deref() {
+            Some("webgl") => Some(eframe::wgpu::Backends::GL),
+            Some("webgpu") => Some(eframe::wgpu::Backends::BROWSER_WEBGPU),
+            _ => None,
+        };
+        if let Some(backends) = backends {
+            let mut setup = eframe::egui_wgpu::WgpuSetupCreateNew::without_display_handle();
+            setup.instance_descriptor.backends = backends;
+            options.wgpu_options.wgpu_setup = eframe::egui_wgpu::WgpuSetup::CreateNew(setup);
+        }
         self.runner
             .start(canvas, options, Box::new(|cc| Ok(Box::new(ringlab::ui::create_app(cc, None)))))
             .await
@@ -114,4 +125,25 @@ impl Default for WebHandle {
     fn default() -> Self {
         WebHandle::new()
     }
+}
+
+/// The worker's side of a fit (`worker.js`): the recording as format v1 text, progress to
+/// `progress(fraction, text)`, the result as `session::page_worker` reads it back.
+#[wasm_bindgen]
+pub fn fit_recording(recording: &str, progress: &js_sys::Function) -> Result<String, JsValue> {
+    use ringlab::analysis::fit::{FitOptions, FitProgress, fit};
+    use ringlab::session::{describe_fit_progress, page_worker};
+    let rec = ringlab::recording::read::parse_recording(
+        recording.as_bytes(),
+        std::path::Path::new("recording"),
+    )
+    .map_err(|e| JsValue::from_str(&e.to_string()))?;
+    let report = |p: &FitProgress| {
+        let p = describe_fit_progress(p);
+        let _ = progress.call2(&JsValue::NULL, &p.fraction.into(), &p.text.into());
+    };
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let r = fit(&rec, &FitOptions::default(), &report, &never)
+        .map_err(|e| JsValue::from_str(&e.to_string()))?;
+    page_worker::result_text(&r).map_err(|e| JsValue::from_str(&e))
 }

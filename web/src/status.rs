@@ -29,6 +29,7 @@ pub fn status_json(app: &RinglabApp) -> String {
     json!({
         "running": true,
         "seconds": app.player.seconds(),
+        "t": app.tracks().first().map(|t| app.player.seconds() / t.case().units.time_s),
         "playing": app.player.is_playing(),
         "drag": app.settings.case.drag.c,
         "compare": app.settings.compare,

@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Vector3};
 use std::fmt;
 
 /// Which inertia formula applies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Shape {
     /// Thin-walled tube: `I2 = (R^2 + Ri^2)/2`, `I1 = I3 = (R^2 + Ri^2)/4 + h^2/12`.
     Ring,
@@ -81,7 +81,7 @@ pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64, 
 }
 
 /// A validated body with its inertia and the constant matrix `J` of eq. 4 (and its inverse).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Body {
     pub shape: Shape,
     /// Outer radius `R`.

@@ -30,7 +30,7 @@ pub mod ix {
 }
 
 /// The complete force model of one body on the table.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Model {
     pub body: Body,
     /// Gravity in the model's units.
@@ -251,7 +251,7 @@ impl System<STATE_LEN> for Model {
 }
 
 /// The state at the start of a run, in the model's units.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Initial {
     pub phi: f64,
     pub theta: f64,

@@ -10,7 +10,7 @@ pub const G_MM_PER_S2: f64 = 9810.0;
 pub const NU_AIR_MM2_PER_S: f64 = 15.1;
 
 /// What one unit of length and one unit of time of a model are, in mm and s.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Units {
     pub length_mm: f64,
     pub time_s: f64,

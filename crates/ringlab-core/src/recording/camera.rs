@@ -29,7 +29,7 @@
 use super::{FrameMarks, Header};
 use crate::physics::effects::CameraNumbers;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
     pub px_per_mm: f64,
     /// Pixel position of the table's origin (where the optical axis meets the table).

@@ -33,7 +33,7 @@ const RAYLEIGH_MEDIAN: f64 = 1.177_410_022_515_474_6;
 /// A bound on the passes (each finds at least one glitch per neighbourhood).
 const MAX_PASSES: usize = 50;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum GlitchKind {
     /// Off its own track.
     Outlier,
@@ -42,7 +42,7 @@ pub enum GlitchKind {
 }
 
 /// One mark position left out (`frame` is the index into the recording's frames; `mark` 0-based).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Glitch {
     pub frame: usize,
     pub mark: usize,

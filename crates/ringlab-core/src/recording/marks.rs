@@ -20,7 +20,7 @@ use crate::physics::{Body, Shape};
 use std::f64::consts::FRAC_PI_2;
 
 /// Which way the mark numbers run round the top edge.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum MarkOrder {
     /// From `e1` towards `e3`: clockwise seen from above.
     Forward,
@@ -52,7 +52,7 @@ pub fn mark_radius(body: &Body) -> f64 {
 }
 
 /// The marks' circle and numbering, and the body's dimensions that set its height.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MarkGeometry {
     /// Radius of the marks' circle (the length unit of the caller).
     pub radius: f64,

@@ -107,6 +107,9 @@ pub enum FitError {
     BadStart,
     #[error("the fit was cancelled")]
     Cancelled,
+    /// A fit run apart (a web page's worker) that failed there: its error, as it said it.
+    #[error("{0}")]
+    Apart(String),
 }
 
 impl From<LmError> for FitError {

@@ -49,7 +49,7 @@ impl Free {
 /// The Reynolds numbers at a fit's start state, of the centre's speed and of the rim's: the
 /// reference of `reynolds_drag`, so that its `C_i` are those at the start whichever speed
 /// its law follows.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StartReynolds {
     pub centre: f64,
     pub rim: f64,

@@ -13,7 +13,7 @@ use std::ops::Range;
 use std::sync::atomic::AtomicBool;
 
 /// What a fit found.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct FitResult {
     pub c: [f64; 3],
     /// One standard deviation (infinite where the data do not constrain it).

@@ -28,7 +28,7 @@ macro_rules! list {
         $(pub mod $module;)*
 
         /// Everything the diagnosis can name.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum EffectKind { $($variant),* }
 
         impl EffectKind {
@@ -43,7 +43,7 @@ macro_rules! list {
 
         /// Physics beyond the paper's model: each effect's parameters, all off by default
         /// (lengths in the model's units). Each field is described in its effect's file.
-        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
         pub struct Effects {
             $(pub $module: $params,)*
             /// The sliding contact's parameters (`slip.rs` says what each is): a contact model

@@ -23,7 +23,7 @@ pub const REYNOLDS_MAX_FACTOR: f64 = 10.0;
 /// takes the centre's, `|v_C|`; the rim moves at `|omega| R`. `rim_share` blends the two,
 /// `U^2 = |v_C|^2 + s (|omega|^2 R^2 - |v_C|^2)` (0: the paper's, 1: the rim's), so that a
 /// drag law of that other shape is still this effect.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReynoldsDrag {
     pub re_ref: f64,
     pub exponent: f64,

@@ -17,7 +17,7 @@ use crate::physics::body::{ParamError, check_finite, check_non_negative};
 /// How a run with the slip effect begins where rolling at its start state would need more
 /// friction than `mu F_N`. A recording starts where the camera does; how the contact stands at
 /// the first frame is not in the data, so a fit may try both.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SlipStart {
     /// Slide at once from zero slip (the physical reading of a state beyond the cone).
     #[default]

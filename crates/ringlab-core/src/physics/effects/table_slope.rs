@@ -20,7 +20,7 @@ use nalgebra::Vector3;
 
 /// The tilt of the table's normal from the vertical (rad) and the direction toward which the
 /// table falls (rad from the table's `+X` axis, turning toward `+Y`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TableSlope {
     pub angle: f64,
     pub direction: f64,

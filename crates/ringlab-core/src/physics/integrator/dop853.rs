@@ -5,7 +5,7 @@ use super::tableau::{A, B, C, D, E3, E5};
 use std::fmt;
 
 /// Relative and absolute error tolerances (per component: `atol + rtol |y|`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tolerances {
     pub rtol: f64,
     pub atol: f64,

@@ -15,7 +15,7 @@ pub const DEFAULT_MU: f64 = 0.4;
 /// 1e-6 `sqrt(g R)`).
 pub const REST_KINETIC_FRACTION: f64 = 1e-12;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunOptions {
     pub t_end: f64,
     pub tol: Tolerances,

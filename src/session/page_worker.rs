@@ -1,0 +1,111 @@
+//! A fit in a web page's worker (`worker.js` beside the page): the page has one thread, and a
+//! fit of a few seconds there would freeze the window. The recording goes over as format v1
+//! text (written exactly: the worker reads back the same numbers), the result comes back as
+//! TOML (which keeps the infinite sigmas of unconstrained parameters; JSON would not), progress
+//! in between. Cancel ends the worker. Where no worker can be started the fit runs in place.
+
+use super::job::Job;
+use crate::analysis::fit::{FitError, FitResult};
+use crate::recording::Recording;
+use crate::recording::write::write_recording_exact;
+
+/// What a worker's fit is for the session: the job it polls, the worker it ends on Cancel.
+pub type FitJob = Job<Result<(FitResult, Option<std::sync::Arc<super::ModelMarks>>), FitError>>;
+
+/// The recording as the worker reads it.
+pub fn recording_text(rec: &Recording) -> Result<String, String> {
+    let mut out = Vec::new();
+    write_recording_exact(&mut out, rec).map_err(|e| e.to_string())?;
+    String::from_utf8(out).map_err(|e| e.to_string())
+}
+
+/// The fit's result as the worker sends it back.
+pub fn result_text(r: &FitResult) -> Result<String, String> {
+    toml::to_string(r).map_err(|e| e.to_string())
+}
+
+/// The result read back on the page's side.
+pub fn result_from_text(text: &str) -> Result<FitResult, String> {
+    toml::from_str(text).map_err(|e| e.to_string())
+}
+
+#[cfg(target_arch = "wasm32")]
+pub use page::{PageWorker, fit_in_worker};
+
+#[cfg(target_arch = "wasm32")]
+mod page {
+    use super::*;
+    use crate::session::job::{JobContext, Progress};
+    use wasm_bindgen::JsCast;
+    use wasm_bindgen::prelude::Closure;
+
+    /// The worker of one job: ended when dropped (Cancel, a new recording, the page closed).
+    pub struct PageWorker {
+        worker: web_sys::Worker,
+        _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
+    }
+
+    impl Drop for PageWorker {
+        fn drop(&mut self) {
+            self.worker.terminate();
+        }
+    }
+
+    /// Starts the fit of `rec` in a worker; None where the page cannot start one (then the
+    /// caller fits in place).
+    pub fn fit_in_worker(rec: &Recording) -> Option<(FitJob, PageWorker)> {
+        let text = recording_text(rec).ok()?;
+        let options = web_sys::WorkerOptions::new();
+        options.set_type(web_sys::WorkerType::Module);
+        let worker = web_sys::Worker::new_with_options("./worker.js", &options).ok()?;
+        let (job, tx) = Job::waiting();
+        let ctx: JobContext = job.context();
+        let on_message =
+            Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
+                let get = |key: &str| js_sys::Reflect::get(&e.data(), &key.into()).ok();
+                let text = |key: &str| get(key).and_then(|v| v.as_string());
+                if let Some(t) = text("progress") {
+                    let fraction = get("fraction").and_then(|v| v.as_f64()).unwrap_or(0.0);
+                    ctx.report_forward(Progress { fraction: fraction as f32, text: t });
+                } else if let Some(t) = text("result") {
+                    let r = result_from_text(&t).map(|r| (r, None)).map_err(|e| {
+                        FitError::Apart(format!("the page's fit came back unread: {e}"))
+                    });
+                    let _ = tx.send(r);
+                } else {
+                    let why = text("error").unwrap_or_else(|| "the page's worker stopped".into());
+                    let _ = tx.send(Err(FitError::Apart(why)));
+                }
+            });
+        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+        let message = js_sys::Object::new();
+        js_sys::Reflect::set(&message, &"fit".into(), &text.into()).ok()?;
+        worker.post_message(&message).ok()?;
+        Some((job, PageWorker { worker, _on_message: on_message }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::fit::{FitOptions, fit};
+    use crate::recording::read::parse_recording;
+    use std::sync::atomic::AtomicBool;
+
+    #[test]
+    fn a_fit_crosses_to_the_worker_and_back_unchanged() {
+        let bytes = include_bytes!("../../tests/data/sample-ring.csv");
+        let path = std::path::Path::new("sample-ring.csv");
+        let rec = parse_recording(bytes, path).expect("the sample reads");
+        // What the page sends is what the worker reads.
+        let sent = parse_recording(recording_text(&rec).expect("written").as_bytes(), path);
+        assert_eq!(sent.as_ref(), Ok(&rec));
+        let r = fit(&rec, &FitOptions::default(), &|_| {}, &AtomicBool::new(false)).expect("fits");
+        let mut unconstrained = r.clone();
+        unconstrained.c_sigma[2] = f64::INFINITY;
+        for r in [r, unconstrained] {
+            let back = result_from_text(&result_text(&r).expect("written")).expect("read back");
+            assert_eq!(format!("{back:?}"), format!("{r:?}"));
+        }
+    }
+}
