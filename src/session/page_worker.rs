@@ -1,7 +1,8 @@
 //! A fit in a web page's worker (`worker.js` beside the page): the page has one thread, and a
 //! fit of a few seconds there would freeze the window. The recording goes over as format v1
 //! text (written exactly: the worker reads back the same numbers), the result comes back as
-//! TOML (which keeps the infinite sigmas of unconstrained parameters; JSON would not), progress
+//! RON (which keeps the infinite sigmas of unconstrained parameters and the effects without
+//! parameters; JSON and TOML keep neither), progress
 //! in between. Cancel ends the worker. Where no worker can be started the fit runs in place.
 
 use super::job::Job;
@@ -21,12 +22,12 @@ pub fn recording_text(rec: &Recording) -> Result<String, String> {
 
 /// The fit's result as the worker sends it back.
 pub fn result_text(r: &FitResult) -> Result<String, String> {
-    toml::to_string(r).map_err(|e| e.to_string())
+    ron::to_string(r).map_err(|e| e.to_string())
 }
 
 /// The result read back on the page's side.
 pub fn result_from_text(text: &str) -> Result<FitResult, String> {
-    toml::from_str(text).map_err(|e| e.to_string())
+    ron::from_str(text).map_err(|e| e.to_string())
 }
 
 #[cfg(target_arch = "wasm32")]

@@ -542,6 +542,7 @@ impl eframe::App for RinglabApp {
     }
 
     /// A web page's script reaches the app through this (`WebRunner::app_mut`).
+    #[cfg(target_arch = "wasm32")]
     fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
         Some(self)
     }

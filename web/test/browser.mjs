@@ -44,10 +44,14 @@ export function launchChromium(chromium) {
       "--disable-component-update",
       "--disable-sync",
       "--disable-quic",
-      // No GPU here: WebGL2 and WebGPU on SwiftShader, Chromium's software rasteriser.
+      // No GPU here: WebGL2 (ANGLE) and WebGPU (Dawn on Vulkan) on SwiftShader, Chromium's
+      // software rasteriser; without the Vulkan ones a WebGPU canvas stays blank headless.
       "--use-angle=swiftshader",
       "--enable-unsafe-swiftshader",
       "--enable-unsafe-webgpu",
+      "--enable-features=Vulkan",
+      "--use-vulkan=swiftshader",
+      "--use-webgpu-adapter=swiftshader",
       "--ignore-gpu-blocklist",
     ],
   });

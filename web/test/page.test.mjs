@@ -57,22 +57,24 @@ function desktopPicture(args, out) {
   return PNG.sync.read(fs.readFileSync(out));
 }
 
-test("the page draws the app as the desktop draws it (paper ring, t = 60)", async () => {
-  const page = await pageAt("?preset=paper-ring&t=60", 60);
-  const shot = path.join(shots, "page-paper-ring-t60.png");
-  await page.screenshot({ path: shot });
-  const status = await page.evaluate(() => JSON.parse(window.ringlab.status()));
-  assert.equal(status.runs[0].case, "paper-ring");
-  assert.ok(Math.abs(status.seconds - 60) < 1e-6, `the clock at ${status.seconds}, not 60`);
-  const desktop = desktopPicture(["--preset", "paper-ring", "--time", "60"], path.join(shots, "desktop-paper-ring-t60.png"));
-  const result = compareImages(PNG.sync.read(fs.readFileSync(shot)), desktop, { tiles: [8, 6] });
-  console.log(`page against desktop: ${JSON.stringify(result.summary)}`);
-  // Text, sliders, plots and the 3D view are egui's and ringlab's own drawing in both; the
-  // rasterisers differ (SwiftShader's WebGL/WebGPU against lavapipe) by a few levels at edges.
-  assert.ok(result.summary.meanAbs < 6, `mean difference ${result.summary.meanAbs} levels`);
-  assert.ok(result.summary.worstTileMeanAbs < 20, `worst tile ${JSON.stringify(result.worst)}`);
-  await page.close();
-});
+for (const backend of ["webgpu", "webgl"]) {
+  test(`the page draws the app as the desktop draws it (${backend}, paper ring, t = 60)`, async () => {
+    const page = await pageAt(`?backend=${backend}&preset=paper-ring&t=60`, 60);
+    const shot = path.join(shots, `page-${backend}-paper-ring-t60.png`);
+    await page.screenshot({ path: shot });
+    const status = await page.evaluate(() => JSON.parse(window.ringlab.status()));
+    assert.equal(status.runs[0].case, "paper-ring");
+    assert.ok(Math.abs(status.t - 60) < 1e-9, `the clock at t = ${status.t}, not 60`);
+    const desktop = desktopPicture(["--preset", "paper-ring", "--time", "60"], path.join(shots, "desktop-paper-ring-t60.png"));
+    const result = compareImages(PNG.sync.read(fs.readFileSync(shot)), desktop, { tiles: [8, 6] });
+    console.log(`page (${backend}) against desktop: ${JSON.stringify(result.summary)}`);
+    // Text, sliders, plots and the 3D view are egui's and ringlab's own drawing in both; the
+    // rasterisers differ (SwiftShader against lavapipe) by a few levels at edges.
+    assert.ok(result.summary.meanAbs < 6, `mean difference ${result.summary.meanAbs} levels`);
+    assert.ok(result.summary.worstTileMeanAbs < 20, `worst tile ${JSON.stringify(result.worst)}`);
+    await page.close();
+  });
+}
 
 test("ring against disk side by side in the page", async () => {
   const page = await pageAt("?compare=ring-vs-disk&t=60", 60);
@@ -102,11 +104,18 @@ test("a drag change from the page changes the run", async () => {
 test("the sample recording fitted in the page gives the desktop's C", async () => {
   const desktop = JSON.parse(execFileSync(cli, ["fit", path.join(root, "tests/data/sample-ring.csv"), "--json"]).toString());
   const page = await openPage(browser, url("?recording=sample-ring.csv&fit=1"), VIEW);
-  const status = await waitFor(page, (s) => s.fit !== null || s.error !== null, 240_000);
+  // The fit runs in a worker: the page answers meanwhile, and shows the fit's progress.
+  const seen = [];
+  const status = await waitFor(page, (s) => {
+    if (s.fitting) seen.push(s.fitting.text);
+    return s.fit !== null || s.error !== null;
+  }, 240_000);
+  assert.ok(seen.length > 0, "the page never answered while the fit ran");
   assert.equal(status.error, null);
   await page.waitForTimeout(1000);
   await page.screenshot({ path: path.join(shots, "page-sample-fitted.png") });
   const shown = (x) => x.toPrecision(4);
+  console.log(`progress seen while fitting: ${seen.length} times, last "${seen.at(-1)}"`);
   console.log(`C in the page ${status.fit.c}, on the desktop ${desktop.c} (${status.fit.compute_seconds.toFixed(1)} s in the page)`);
   assert.deepEqual(status.fit.c.map(shown), desktop.c.map(shown));
   await page.close();
