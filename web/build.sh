@@ -15,7 +15,7 @@ sudo_cmd() { if [ "$(id -u)" -ne 0 ]; then sudo "$@"; else "$@"; fi; }
 
 export CARGO_TARGET_DIR="$root/target/web"
 target=wasm32-unknown-unknown
-cargo_args=(build --release --target "$target" -p ringlab-web)
+cargo_args=(build --profile web --target "$target" -p ringlab-web)
 if rustup target list --installed 2>/dev/null | grep -qx "$target"; then
   echo "web/build.sh: rustup's $target standard library"
 else
@@ -55,7 +55,7 @@ start=$(date +%s)
 cargo "${cargo_args[@]}"
 mkdir -p "$out"
 wasm-bindgen --target web --no-typescript --out-dir "$out" \
-  "$CARGO_TARGET_DIR/$target/release/ringlab_web.wasm"
+  "$CARGO_TARGET_DIR/$target/web/ringlab_web.wasm"
 cp web/index.html web/worker.js "$out/"
 # The sample recording, for links that open it (index.html?recording=sample-ring.csv&fit=1).
 cp tests/data/sample-ring.csv "$out/sample-ring.csv"

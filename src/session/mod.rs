@@ -81,9 +81,11 @@ pub struct RecordingSession {
     /// The model's marks drawn over a film: the fit's, the diagnosis's chosen model's once
     /// diagnosed, or the model last put in the simulator.
     model_marks: Option<Arc<ModelMarks>>,
-    /// The web page's worker of the running fit (ended on Cancel).
+    /// The web page's workers of the running fit and diagnosis (ended on Cancel).
     #[cfg(target_arch = "wasm32")]
     fit_worker: Option<page_worker::PageWorker>,
+    #[cfg(target_arch = "wasm32")]
+    diagnose_worker: Option<page_worker::PageWorker>,
     /// A problem to show until dismissed (a file that could not be read, a failed fit).
     pub error: Option<String>,
     /// Something to know that is no error (a cancelled fit, no dialog).
@@ -120,6 +122,8 @@ impl RecordingSession {
             model_marks: None,
             #[cfg(target_arch = "wasm32")]
             fit_worker: None,
+            #[cfg(target_arch = "wasm32")]
+            diagnose_worker: None,
             error: None,
             note: None,
             import_options: ImportOptions::default(),
@@ -263,6 +267,7 @@ impl RecordingSession {
         #[cfg(target_arch = "wasm32")]
         {
             self.fit_worker = None;
+            self.diagnose_worker = None;
         }
         self.diagnosed = None;
         self.diagnosing = None;
@@ -284,7 +289,15 @@ impl RecordingSession {
         let background = self.background;
         let film = l.film.is_some();
         #[cfg(target_arch = "wasm32")]
-        if background && let Some((job, worker)) = page_worker::fit_in_worker(&rec) {
+        if background
+            && let Some((job, worker)) =
+                page_worker::in_worker(page_worker::Work::Fit, &rec, |answer| {
+                    answer
+                        .and_then(|t| page_worker::result_from_text(&t))
+                        .map(|r| (r, None))
+                        .map_err(FitError::Apart)
+                })
+        {
             self.fitting = Some(job);
             self.fit_worker = Some(worker);
             return;
@@ -319,6 +332,21 @@ impl RecordingSession {
         let rec = Arc::clone(&l.recording);
         let background = self.background;
         let order = l.film.as_ref().map(|_| l.motion.mark_order);
+        // A page's recordings are never films: no marks to draw over one.
+        #[cfg(target_arch = "wasm32")]
+        if background
+            && let Some((job, worker)) =
+                page_worker::in_worker(page_worker::Work::Diagnose, &rec, |answer| {
+                    answer
+                        .and_then(|t| page_worker::result_from_text(&t))
+                        .map(|d| (d, None))
+                        .map_err(DiagnoseError::Apart)
+                })
+        {
+            self.diagnosing = Some(job);
+            self.diagnose_worker = Some(worker);
+            return;
+        }
         self.diagnosing = Some(Job::start("diagnose", background, move |ctx| {
             let d = run_diagnose(&rec, ctx, background)?;
             let marks =
@@ -331,6 +359,11 @@ impl RecordingSession {
     pub fn cancel_diagnose(&mut self) {
         if let Some(j) = &self.diagnosing {
             j.cancel();
+        }
+        #[cfg(target_arch = "wasm32")]
+        if self.diagnose_worker.take().is_some() {
+            self.diagnosing = None;
+            self.note = Some("the diagnosis was cancelled".into());
         }
     }
 
@@ -413,6 +446,10 @@ impl RecordingSession {
         }
         if let Some(done) = self.diagnosing.as_mut().and_then(|j| j.poll()) {
             self.diagnosing = None;
+            #[cfg(target_arch = "wasm32")]
+            {
+                self.diagnose_worker = None;
+            }
             match done {
                 Ok(Ok((d, model_marks))) => {
                     if let Some(l) = &self.loaded {

@@ -1,17 +1,30 @@
-//! A fit in a web page's worker (`worker.js` beside the page): the page has one thread, and a
-//! fit of a few seconds there would freeze the window. The recording goes over as format v1
-//! text (written exactly: the worker reads back the same numbers), the result comes back as
-//! RON (which keeps the infinite sigmas of unconstrained parameters and the effects without
-//! parameters; JSON and TOML keep neither), progress
-//! in between. Cancel ends the worker. Where no worker can be started the fit runs in place.
+//! A fit or a diagnosis in a web page's worker (`worker.js` beside the page): the page has one
+//! thread, and work of seconds there would freeze the window. The recording goes over as
+//! format v1 text (written exactly: the worker reads back the same numbers), the result comes
+//! back as RON (which keeps the infinite sigmas of unconstrained parameters and the effects
+//! without parameters; JSON and TOML keep neither), progress in between. Cancel ends the
+//! worker. Where no worker can be started the work runs in place.
 
-use super::job::Job;
-use crate::analysis::fit::{FitError, FitResult};
 use crate::recording::Recording;
 use crate::recording::write::write_recording_exact;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
 
-/// What a worker's fit is for the session: the job it polls, the worker it ends on Cancel.
-pub type FitJob = Job<Result<(FitResult, Option<std::sync::Arc<super::ModelMarks>>), FitError>>;
+/// The work a worker does: the message's key, and the job's name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Work {
+    Fit,
+    Diagnose,
+}
+
+impl Work {
+    pub fn key(self) -> &'static str {
+        match self {
+            Work::Fit => "fit",
+            Work::Diagnose => "diagnose",
+        }
+    }
+}
 
 /// The recording as the worker reads it.
 pub fn recording_text(rec: &Recording) -> Result<String, String> {
@@ -20,23 +33,23 @@ pub fn recording_text(rec: &Recording) -> Result<String, String> {
     String::from_utf8(out).map_err(|e| e.to_string())
 }
 
-/// The fit's result as the worker sends it back.
-pub fn result_text(r: &FitResult) -> Result<String, String> {
+/// A result as the worker sends it back.
+pub fn result_text<T: Serialize>(r: &T) -> Result<String, String> {
     ron::to_string(r).map_err(|e| e.to_string())
 }
 
 /// The result read back on the page's side.
-pub fn result_from_text(text: &str) -> Result<FitResult, String> {
+pub fn result_from_text<T: DeserializeOwned>(text: &str) -> Result<T, String> {
     ron::from_str(text).map_err(|e| e.to_string())
 }
 
 #[cfg(target_arch = "wasm32")]
-pub use page::{PageWorker, fit_in_worker};
+pub use page::{PageWorker, in_worker};
 
 #[cfg(target_arch = "wasm32")]
 mod page {
     use super::*;
-    use crate::session::job::{JobContext, Progress};
+    use crate::session::job::{Job, JobContext, Progress};
     use wasm_bindgen::JsCast;
     use wasm_bindgen::prelude::Closure;
 
@@ -52,9 +65,14 @@ mod page {
         }
     }
 
-    /// Starts the fit of `rec` in a worker; None where the page cannot start one (then the
-    /// caller fits in place).
-    pub fn fit_in_worker(rec: &Recording) -> Option<(FitJob, PageWorker)> {
+    /// Starts `work` on `rec` in a worker; its answer (the result's text, or the worker's
+    /// error) becomes the job's result through `deliver`. None where the page cannot start a
+    /// worker (then the caller works in place).
+    pub fn in_worker<T: 'static>(
+        work: Work,
+        rec: &Recording,
+        deliver: impl Fn(Result<String, String>) -> T + 'static,
+    ) -> Option<(Job<T>, PageWorker)> {
         let text = recording_text(rec).ok()?;
         let options = web_sys::WorkerOptions::new();
         options.set_type(web_sys::WorkerType::Module);
@@ -69,18 +87,15 @@ mod page {
                     let fraction = get("fraction").and_then(|v| v.as_f64()).unwrap_or(0.0);
                     ctx.report_forward(Progress { fraction: fraction as f32, text: t });
                 } else if let Some(t) = text("result") {
-                    let r = result_from_text(&t).map(|r| (r, None)).map_err(|e| {
-                        FitError::Apart(format!("the page's fit came back unread: {e}"))
-                    });
-                    let _ = tx.send(r);
+                    let _ = tx.send(deliver(Ok(t)));
                 } else {
                     let why = text("error").unwrap_or_else(|| "the page's worker stopped".into());
-                    let _ = tx.send(Err(FitError::Apart(why)));
+                    let _ = tx.send(deliver(Err(why)));
                 }
             });
         worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
         let message = js_sys::Object::new();
-        js_sys::Reflect::set(&message, &"fit".into(), &text.into()).ok()?;
+        js_sys::Reflect::set(&message, &work.key().into(), &text.into()).ok()?;
         worker.post_message(&message).ok()?;
         Some((job, PageWorker { worker, _on_message: on_message }))
     }
@@ -89,7 +104,7 @@ mod page {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::fit::{FitOptions, fit};
+    use crate::analysis::fit::{FitOptions, FitResult, fit};
     use crate::recording::read::parse_recording;
     use std::sync::atomic::AtomicBool;
 
@@ -105,7 +120,8 @@ mod tests {
         let mut unconstrained = r.clone();
         unconstrained.c_sigma[2] = f64::INFINITY;
         for r in [r, unconstrained] {
-            let back = result_from_text(&result_text(&r).expect("written")).expect("read back");
+            let text = result_text(&r).expect("written");
+            let back: FitResult = result_from_text(&text).expect("read back");
             assert_eq!(format!("{back:?}"), format!("{r:?}"));
         }
     }

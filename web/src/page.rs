@@ -100,6 +100,11 @@ impl WebHandle {
         self.with_app(|app| app.recording.start_fit());
     }
 
+    /// Starts a diagnosis of the open recording (the Diagnose tab's Diagnose).
+    pub fn diagnose(&self) {
+        self.with_app(|app| app.recording.start_diagnose());
+    }
+
     /// What the app shows now, as JSON: the clock, the runs, the drag, the recording and its
     /// fit (the browser test reads it; so may a page that embeds ringlab).
     pub fn status(&self) -> String {
@@ -127,23 +132,40 @@ impl Default for WebHandle {
     }
 }
 
-/// The worker's side of a fit (`worker.js`): the recording as format v1 text, progress to
-/// `progress(fraction, text)`, the result as `session::page_worker` reads it back.
+/// The worker's side (`worker.js`): `work` is "fit" or "diagnose", the recording format v1
+/// text, progress to `progress(fraction, text)`; the result as `session::page_worker` reads it.
 #[wasm_bindgen]
-pub fn fit_recording(recording: &str, progress: &js_sys::Function) -> Result<String, JsValue> {
+pub fn work(work: &str, recording: &str, progress: &js_sys::Function) -> Result<String, JsValue> {
+    use ringlab::analysis::diagnose::{DiagnoseOptions, DiagnoseProgress, diagnose};
     use ringlab::analysis::fit::{FitOptions, FitProgress, fit};
     use ringlab::session::{describe_fit_progress, page_worker};
+    let js = |e: String| JsValue::from_str(&e);
     let rec = ringlab::recording::read::parse_recording(
         recording.as_bytes(),
         std::path::Path::new("recording"),
     )
-    .map_err(|e| JsValue::from_str(&e.to_string()))?;
-    let report = |p: &FitProgress| {
-        let p = describe_fit_progress(p);
-        let _ = progress.call2(&JsValue::NULL, &p.fraction.into(), &p.text.into());
+    .map_err(|e| js(e.to_string()))?;
+    let tell = |fraction: f32, text: String| {
+        let _ = progress.call2(&JsValue::NULL, &fraction.into(), &text.into());
     };
+    // The page ends the worker to cancel: nothing here is ever asked to stop.
     let never = std::sync::atomic::AtomicBool::new(false);
-    let r = fit(&rec, &FitOptions::default(), &report, &never)
-        .map_err(|e| JsValue::from_str(&e.to_string()))?;
-    page_worker::result_text(&r).map_err(|e| JsValue::from_str(&e))
+    match work {
+        "fit" => {
+            let report = |p: &FitProgress| {
+                let p = describe_fit_progress(p);
+                tell(p.fraction, p.text);
+            };
+            let r = fit(&rec, &FitOptions::default(), &report, &never)
+                .map_err(|e| js(e.to_string()))?;
+            page_worker::result_text(&r).map_err(js)
+        }
+        "diagnose" => {
+            let report = |p: &DiagnoseProgress| tell(p.fraction as f32, p.message.clone());
+            let d = diagnose(&rec, &DiagnoseOptions::default(), &report, &never)
+                .map_err(|e| js(e.to_string()))?;
+            page_worker::result_text(&d).map_err(js)
+        }
+        other => Err(js(format!("no work named {other:?} (fit or diagnose)"))),
+    }
 }

@@ -26,6 +26,13 @@ pub fn status_json(app: &RinglabApp) -> String {
         json!({ "c": f.result.c, "c_sigma": f.result.c_sigma, "rms_px": f.result.rms_px,
                 "compute_seconds": f.result.compute_seconds })
     });
+    let diagnosis = app.recording.diagnosed().map(|d| {
+        let r = &d.result;
+        json!({ "finding": r.finding.name(),
+                "named": r.finding.named().iter().map(|k| k.name()).collect::<Vec<_>>(),
+                "before_px": r.before.rms_px, "after_px": r.after.rms_px, "noise_px": r.noise_px,
+                "compute_seconds": r.compute_seconds })
+    });
     json!({
         "running": true,
         "seconds": app.player.seconds(),
@@ -37,6 +44,8 @@ pub fn status_json(app: &RinglabApp) -> String {
         "recording": recording,
         "fitting": app.recording.fit_progress().map(|p| json!({"fraction": p.fraction, "text": p.text})),
         "fit": fit,
+        "diagnosing": app.recording.diagnose_progress().map(|p| json!({"fraction": p.fraction, "text": p.text})),
+        "diagnosis": diagnosis,
         "error": app.recording.error,
         "note": app.recording.note,
         "last_restart_ms": app.last_restart_latency.map(|d| d.as_secs_f64() * 1e3),

@@ -51,6 +51,10 @@ async function pageAt(query, t) {
   return page;
 }
 
+// `ringlab diagnose --json`'s finding and improved misfit, as the window shows them.
+const desktopFinding = (d) => d.left_out;
+const desktopAfter = (d) => d.after.rms_px;
+
 function desktopPicture(args, out) {
   execFileSync(cli, ["render", ...args, "--view", "app", "--width", String(VIEW.width),
     "--height", String(VIEW.height), "--out", out], { stdio: "pipe" });
@@ -118,6 +122,25 @@ test("the sample recording fitted in the page gives the desktop's C", async () =
   console.log(`progress seen while fitting: ${seen.length} times, last "${seen.at(-1)}"`);
   console.log(`C in the page ${status.fit.c}, on the desktop ${desktop.c} (${status.fit.compute_seconds.toFixed(1)} s in the page)`);
   assert.deepEqual(status.fit.c.map(shown), desktop.c.map(shown));
+  await page.close();
+});
+
+test("the sample recording diagnosed in the page gives the desktop's answer", async () => {
+  const desktop = JSON.parse(execFileSync(cli, ["diagnose", path.join(root, "tests/data/sample-ring.csv"), "--json"]).toString());
+  const page = await openPage(browser, url("?recording=sample-ring.csv&diagnose=1"), VIEW);
+  const seen = [];
+  const status = await waitFor(page, (s) => {
+    if (s.diagnosing) seen.push(s.diagnosing.text);
+    return s.diagnosis !== null || s.error !== null;
+  }, 300_000);
+  assert.equal(status.error, null);
+  assert.ok(seen.length > 0, "the page never answered while the diagnosis ran");
+  await page.waitForTimeout(1000);
+  await page.screenshot({ path: path.join(shots, "page-sample-diagnosed.png") });
+  const d = status.diagnosis;
+  console.log(`diagnosis in the page: ${JSON.stringify(d)}; desktop: ${desktop.left_out} at ${desktop.after.rms_px} px`);
+  assert.equal(d.finding, desktopFinding(desktop));
+  assert.equal(d.after_px.toFixed(3), desktopAfter(desktop).toFixed(3));
   await page.close();
 });
 

@@ -40,7 +40,7 @@ pub const MAX_LONG_LAG_STAT: f64 = 3.0;
 pub const MAX_DISAGREEMENT: f64 = 0.2;
 
 /// The noise's correlation in time, measured on a whole-run residual.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NoiseCorrelation {
     /// The correlation at lags `0..range_frames` (`rho[0] = 1`).
     pub rho: Vec<f64>,

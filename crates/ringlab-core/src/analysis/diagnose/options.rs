@@ -82,4 +82,7 @@ pub enum DiagnoseError {
     Options(String),
     #[error("the diagnosis was cancelled")]
     Cancelled,
+    /// A diagnosis run apart (a web page's worker) that failed there: its error, as it said it.
+    #[error("{0}")]
+    Apart(String),
 }

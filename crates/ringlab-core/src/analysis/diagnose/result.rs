@@ -8,7 +8,7 @@ use crate::recording::Camera;
 use crate::recording::glitches::Glitch;
 
 /// A model fitted over the whole run from one start state (the diagnosis's misfit).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ModelFit {
     /// The effect it includes (`None`: the baseline, the paper's model).
     pub effect: EffectKind,
@@ -48,7 +48,7 @@ pub struct ModelFit {
 }
 
 /// One extra number of an effect as fitted (`Descriptor::extras[index]` of `kind`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ExtraFit {
     pub kind: EffectKind,
     pub index: usize,
@@ -99,7 +99,7 @@ impl ModelFit {
 }
 
 /// One candidate of the ranking (`none` is the baseline).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Candidate {
     pub effect: EffectKind,
     pub rms_px: f64,
@@ -126,7 +126,7 @@ impl Candidate {
 }
 
 /// A pair of effects tried together after one was named (the forward selection).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PairCandidate {
     pub first: EffectKind,
     pub second: EffectKind,
@@ -139,7 +139,7 @@ pub struct PairCandidate {
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MismatchWindow {
     pub start_s: f64,
     pub end_s: f64,
@@ -151,7 +151,7 @@ pub struct MismatchWindow {
 }
 
 /// The residual against time, frame by frame and in test windows.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ResidualSeries {
     /// Times of the fitted frames (s).
     pub t_s: Vec<f64>,
@@ -170,7 +170,7 @@ pub struct ResidualSeries {
 }
 
 /// Point A (the centroid of the marks) in image pixels, frame by frame over the fitted span.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Trace {
     pub t_s: Vec<f64>,
     /// From the recording, where all four marks were tracked.
@@ -182,7 +182,7 @@ pub struct Trace {
 }
 
 /// Measured features of the mismatch that tell the effects apart.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Signature {
     /// Where the baseline, fitted to a growing stretch from the start, stops following the
     /// recording within its noise (s; none if it follows the whole run), and that stretch's
@@ -208,7 +208,7 @@ pub struct Signature {
 }
 
 /// What a diagnosis concludes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Finding {
     /// The baseline is consistent with the noise: nothing this recording can show is missing.
     Nothing,
@@ -223,7 +223,7 @@ pub enum Finding {
 
 /// The candidate (one effect, or a pair) that explains the largest share of an unexplained
 /// misfit beyond the noise, that share (of `before^2 - noise^2`) and the misfit it leaves.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Partial {
     pub effects: Vec<EffectKind>,
     pub share: f64,
@@ -263,7 +263,7 @@ impl Finding {
 }
 
 /// Everything a diagnosis found.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Diagnosis {
     /// What the baseline left out: nothing, some effects, or something no candidate explains.
     pub finding: Finding,
@@ -307,7 +307,9 @@ pub struct Diagnosis {
     pub frames_fitted: usize,
     pub fps: f64,
     /// Wall-clock time of each stage (s): the multiple-shooting fit, the baseline's path with
-    /// the departure beside it, the candidates, the rest.
+    /// the departure beside it, the candidates, the rest. (Not carried from a web page's
+    /// worker: the names are the diagnosis's own strings.)
+    #[serde(skip)]
     pub stage_seconds: Vec<(&'static str, f64)>,
     pub compute_seconds: f64,
 }
