@@ -68,7 +68,7 @@ mod page {
     /// Starts `work` on `rec` in a worker; its answer (the result's text, or the worker's
     /// error) becomes the job's result through `deliver`. None where the page cannot start a
     /// worker (then the caller works in place).
-    pub fn in_worker<T: 'static>(
+    pub fn in_worker<T: Send + 'static>(
         work: Work,
         rec: &Recording,
         deliver: impl Fn(Result<String, String>) -> T + 'static,

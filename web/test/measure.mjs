@@ -21,7 +21,10 @@ const server = await serveSite(site);
 const browser = await launchChromium(chromium);
 try {
   const url = `http://127.0.0.1:${server.address().port}/?preset=paper-ring&t=0&play=1`;
+  const opened = Date.now();
   const page = await openPage(browser, url, { width: 1480, height: 920 });
+  // From the request of the page to the app running (the .wasm fetched, compiled, started).
+  const startMs = Date.now() - opened;
   await waitFor(page, (s) => s.playing, 30_000);
   const intervals = await page.evaluate((ms) => new Promise((resolve) => {
     const out = [];
@@ -44,6 +47,7 @@ try {
   const pageMs = Math.min(...runs.map((r) => r.ms));
   const nativeMs = Math.min(...native.map((r) => r.compute_seconds * 1e3));
   console.log(JSON.stringify({
+    start_ms: startMs,
     frames: intervals.length,
     frame_ms: { median: +quantile(intervals, 0.5).toFixed(2), p90: +quantile(intervals, 0.9).toFixed(2), max: +Math.max(...intervals).toFixed(2) },
     played_to_seconds: status.seconds,
