@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """What takes the space in the page's .wasm: the code section's bytes per crate, from the
-function names the module carries (its "name" section), and the data segments' bytes.
+function names the module carries (its "name" section: the `web` profile strips it, so build
+with `--profile release` for the table), and the data segments' bytes.
 Usage: web/size-report.py [target/site/ringlab_web_bg.wasm]"""
 import collections
 import gzip
