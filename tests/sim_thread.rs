@@ -144,3 +144,21 @@ fn a_run_that_cannot_start_reports_why_and_the_thread_lives_on() {
     pump_until(&mut h, 1.0, |h| h.track.last_time().is_some_and(|t| t >= 1.0));
     assert!(h.track.failed().is_none());
 }
+
+#[test]
+fn a_run_in_place_goes_only_as_far_as_asked_and_matches_the_thread() {
+    // A web page has no thread: the same run integrated in slices on the caller's thread.
+    let c = case("paper-ring");
+    let mut h = SimHandle::in_place(c.clone());
+    assert!(h.is_in_place() && h.is_alive());
+    pump_until(&mut h, 20.0, |h| h.track.last_time().is_some_and(|t| t >= 20.0));
+    let reached = h.track.last_time().expect("states");
+    assert!(reached < 40.0, "asked for t = 20, integrated to {reached}");
+    assert_eq!(h.in_flight(), 0);
+    pump_until(&mut h, f64::INFINITY, |h| h.track.is_finished());
+    assert_eq!(h.track.end().expect("ended").reason, EndReason::Flat);
+    assert_on_grid(&h.track, c.dt);
+    let reference = Track::compute(c);
+    assert_eq!(h.track.samples(), reference.samples());
+    assert_eq!(h.track.turning_points().len(), reference.turning_points().len());
+}
