@@ -57,6 +57,7 @@ mod page {
     pub struct PageWorker {
         worker: web_sys::Worker,
         _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
+        _on_error: Closure<dyn FnMut(web_sys::Event)>,
     }
 
     impl Drop for PageWorker {
@@ -79,6 +80,15 @@ mod page {
         let worker = web_sys::Worker::new_with_options("./worker.js", &options).ok()?;
         let (job, tx) = Job::waiting();
         let ctx: JobContext = job.context();
+        let deliver = std::rc::Rc::new(deliver);
+        // A worker whose script cannot be loaded or that fails outside the work says so here
+        // (else the job would wait for ever).
+        let (fail_tx, fail) = (tx.clone(), std::rc::Rc::clone(&deliver));
+        let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |_: web_sys::Event| {
+            let why = "the page's worker (worker.js) failed to start or stopped".to_string();
+            let _ = fail_tx.send((*fail)(Err(why)));
+        });
+        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
         let on_message =
             Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
                 let get = |key: &str| js_sys::Reflect::get(&e.data(), &key.into()).ok();
@@ -87,17 +97,17 @@ mod page {
                     let fraction = get("fraction").and_then(|v| v.as_f64()).unwrap_or(0.0);
                     ctx.report_forward(Progress { fraction: fraction as f32, text: t });
                 } else if let Some(t) = text("result") {
-                    let _ = tx.send(deliver(Ok(t)));
+                    let _ = tx.send((*deliver)(Ok(t)));
                 } else {
                     let why = text("error").unwrap_or_else(|| "the page's worker stopped".into());
-                    let _ = tx.send(deliver(Err(why)));
+                    let _ = tx.send((*deliver)(Err(why)));
                 }
             });
         worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
         let message = js_sys::Object::new();
         js_sys::Reflect::set(&message, &work.key().into(), &text.into()).ok()?;
         worker.post_message(&message).ok()?;
-        Some((job, PageWorker { worker, _on_message: on_message }))
+        Some((job, PageWorker { worker, _on_message: on_message, _on_error: on_error }))
     }
 }
 
