@@ -11,22 +11,15 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 out="${1:-$root/target/site}"
 cd "$root"
-sudo_cmd() { if [ "$(id -u)" -ne 0 ]; then sudo "$@"; else "$@"; fi; }
 
 export CARGO_TARGET_DIR="$root/target/web"
 target=wasm32-unknown-unknown
 cargo_args=(build --profile web --target "$target" -p ringlab-web)
-if rustup target list --installed 2>/dev/null | grep -qx "$target"; then
-  echo "web/build.sh: rustup's $target standard library"
-else
-  if [ ! -x /usr/bin/rustc ] || [ ! -d /usr/lib/rustlib/src/rust/library ]; then
-    echo "web/build.sh: no $target standard library: installing Debian's rustc-web and rust-web-src"
-    sudo_cmd apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive sudo_cmd apt-get install -y -qq --no-install-recommends rustc-web rust-web-src
-  fi
-  echo "web/build.sh: Debian's rustc-web ($(/usr/bin/rustc --version)), the standard library built here"
-  export RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1
-  cargo_args+=(-Zbuild-std=std,panic_abort)
+# shellcheck source=../packaging/rust-std.sh
+. "$root/packaging/rust-std.sh"
+rust_std_for "$target" web/build.sh || exit 1
+cargo_args+=("${std_args[@]}")
+if [ ${#std_args[@]} -gt 0 ]; then
   # Debian's rustc ships no wasm linker: rustup's toolchain has rust-lld, Debian's lld wasm-ld.
   lld="$(rustc --print sysroot 2>/dev/null)/lib/rustlib/x86_64-unknown-linux-gnu/bin/rust-lld"
   if [ ! -x "$lld" ]; then

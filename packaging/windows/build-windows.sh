@@ -48,6 +48,8 @@ need() {
 }
 
 [ "$exe_only" = 1 ] || need makensis nsis
+# shellcheck source=../rust-std.sh
+. "$here/../rust-std.sh"
 cd "$root"
 
 # The .exe: cargo, then a stripped copy in dist/.
@@ -57,27 +59,9 @@ build_exe() {
     need x86_64-w64-mingw32-gcc gcc-mingw-w64-x86-64
     export CARGO_TARGET_X86_64_PC_WINDOWS_GNU_LINKER=x86_64-w64-mingw32-gcc
 
-    if command -v rustup >/dev/null 2>&1 &&
-        rustup target list --installed 2>/dev/null | grep -qx "$target"; then
-        echo "build-windows.sh: rustup's $target std" >&2
-        build=(cargo build --release --target "$target" --bin ringlab)
-    else
-        # Debian's rustc-web is new enough for the crate's rust-version (1.95) on bookworm.
-        if [ ! -x /usr/bin/rustc ] || [ ! -d /usr/lib/rustlib/src/rust/library ]; then
-            command -v apt-get >/dev/null 2>&1 ||
-                die "no $target std: run 'rustup target add $target' (or install rustc-web and rust-web-src)"
-            echo "build-windows.sh: installing Debian's rustc-web and rust-web-src" >&2
-            if ! { $sudo_prefix apt-get update -q &&
-                $sudo_prefix apt-get install -y -q rustc-web rust-web-src; }; then
-                die "could not install rustc-web and rust-web-src"
-            fi
-        fi
-        [ -d /usr/lib/rustlib/src/rust/library ] ||
-            die "/usr/lib/rustlib/src/rust/library is missing (Debian's rust-web-src)"
-        echo "build-windows.sh: $(/usr/bin/rustc --version) with -Zbuild-std" >&2
-        export RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1
-        build=(cargo build --release --target "$target" --bin ringlab "-Zbuild-std=std,panic_abort")
-    fi
+    # Debian's rustc-web is new enough for the crate's rust-version (1.95) on bookworm.
+    rust_std_for "$target" build-windows.sh || exit 1
+    build=(cargo build --release --target "$target" --bin ringlab "${std_args[@]}")
 
     start=$(date +%s)
     echo "build-windows.sh: ${build[*]} (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)" >&2

@@ -43,17 +43,13 @@ apt_install() {
 
 missing=()
 [ "$quick" = 0 ] || command -v makensis >/dev/null 2>&1 || missing+=(nsis)
-if command -v rustup >/dev/null 2>&1 &&
-    rustup target list --installed 2>/dev/null | grep -qx "$target"; then
-    check=(cargo check --target "$target")
-else
-    [ -x /usr/bin/rustc ] && [ -d /usr/lib/rustlib/src/rust/library ] ||
-        missing+=(rustc-web rust-web-src)
-    # std built for windows-gnu links its raw-dylib imports through MinGW's dlltool, even to check.
-    command -v x86_64-w64-mingw32-dlltool >/dev/null 2>&1 || missing+=(binutils-mingw-w64-x86-64)
-    export RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1
-    check=(cargo check --target "$target" "-Zbuild-std=std,panic_abort")
-fi
+# shellcheck source=../rust-std.sh
+. "$here/../rust-std.sh"
+rust_std_for "$target" check-windows.sh || exit 1
+check=(cargo check --target "$target" "${std_args[@]}")
+# std built for windows-gnu links its raw-dylib imports through MinGW's dlltool, even to check.
+[ ${#std_args[@]} -eq 0 ] || command -v x86_64-w64-mingw32-dlltool >/dev/null 2>&1 ||
+    missing+=(binutils-mingw-w64-x86-64)
 [ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 
 # The quick check's crate: the console module alone over the app's own windows-sys line, with the
