@@ -245,6 +245,7 @@ def test_the_docs_example_runs_as_written(tmp_path, monkeypatch, capsys):
     exec(compile(code, "docs/python.md", "exec"), {})
     printed = capsys.readouterr().out.splitlines()
     assert printed[0].split()[0] in ["none", "unexplained", *ringlab.effects()], printed
+    assert len(printed) >= 3, printed  # the explanation, and the frame the fit misses most
 
 
 # --- DeepLabCut's HDF5 files ---------------------------------------------------------------------
@@ -285,6 +286,24 @@ def test_a_deeplabcut_hdf5_file_reads_as_its_csv_bit_for_bit(tmp_path):
     # DeepLabCut's own file (fixed format, written from the DataFrame it made) reads the same.
     dlc_frame(truth).to_hdf(tmp_path / "fixed.h5", key="df_with_missing")
     assert ringlab.Recording.read(tmp_path / "fixed.h5", **kw) == truth
+
+
+@needs_hdf5
+def test_a_multi_animal_hdf5_file_names_its_marks_by_individual(tmp_path):
+    import pandas as pd
+
+    truth = ringlab.Recording.read(SAMPLE)
+    one = dlc_frame(truth)
+    other = one + 40.0  # a second ring beside the first
+    both = pd.concat([one, other], axis=1, keys=["ring1", "ring2"], names=["individuals"])
+    both = both.reorder_levels(["scorer", "individuals", "bodyparts", "coords"], axis=1)
+    both.to_hdf(tmp_path / "two.h5", key="df_with_missing")
+    kw = dict(fps=300, px_per_mm=3.364764, body="paper-ring")
+    rec = ringlab.Recording.read(tmp_path / "two.h5", marks=[f"ring1/m{k}" for k in range(1, 5)], **kw)
+    assert rec == ringlab.Recording.from_arrays(truth.marks, **kw)
+    assert rec.mark_names == ["ring1/m1", "ring1/m2", "ring1/m3", "ring1/m4"]
+    with pytest.raises(ValueError, match="'m1' is not in the file"):
+        ringlab.Recording.read(tmp_path / "two.h5", marks=["m1", "m2", "m3", "m4"], **kw)
 
 
 def bad_h5(tmp_path, make):
