@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 from typing import Any, List, Tuple
 
 from ._core import RecordingError
@@ -25,6 +26,8 @@ def is_hdf5(path: str) -> bool:
     """An HDF5 file by its name or its first bytes."""
     if path.lower().endswith(_EXTENSIONS):
         return True
+    if not os.path.isfile(path):
+        return False  # the core says what it cannot read
     with open(path, "rb") as f:
         return f.read(len(HDF5_SIGNATURE)) == HDF5_SIGNATURE
 
