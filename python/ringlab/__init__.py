@@ -31,6 +31,7 @@ from ._results import (
     Phase,
     RunEffect,
     RunSummary,
+    Signature,
 )
 
 __all__ = [
@@ -52,6 +53,7 @@ __all__ = [
     "Run",
     "RunEffect",
     "RunSummary",
+    "Signature",
     "__version__",
     "diagnose",
     "effects",

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, 
 from . import _core
 from ._progress import ProgressArg, callback
 from ._recording import PathLike, Recording
-from ._results import Diagnosis, FitResult, RunSummary
+from ._results import Diagnosis, FitResult, RunSummary, Signature, arrays
 
 # numpy is imported where arrays are made: a diagnosis of a file needs none, and
 # `import ringlab` stays a few milliseconds.
@@ -218,8 +218,9 @@ def fit(
     (called on this thread). `threads`: default all cores.
 
     Runs with the GIL released; Ctrl-C stops it and raises `KeyboardInterrupt`. Returns a
-    `FitResult` (the object of `ringlab fit --json`); a recording that cannot be fitted raises
-    `ringlab.FitError`, a bad value `ValueError`.
+    `FitResult` (the object of `ringlab fit --json`, with the model's marks and residuals frame
+    by frame as numpy arrays: `predicted_marks`, `mark_residual_px`, `residual_px`); a
+    recording that cannot be fitted raises `ringlab.FitError`, a bad value `ValueError`.
     """
     r = _recording(rec)
     cb, bar = callback(progress)
@@ -245,7 +246,8 @@ def fit(
     finally:
         if bar is not None:
             bar.finish()
-    return FitResult._from_json(json.loads(out))
+    text, raw = out
+    return FitResult._from_json(json.loads(text), **arrays(raw))
 
 
 def diagnose(
@@ -266,8 +268,10 @@ def diagnose(
 
     Runs with the GIL released (seconds to a minute); Ctrl-C stops it and raises
     `KeyboardInterrupt`. Returns a `Diagnosis` (the object of `ringlab diagnose --json`:
-    `left_out`, `left_out_all`, `before.rms_px`, `after.rms_px`, `candidates`, ...); a
-    recording that cannot be diagnosed raises `ringlab.FitError`, a bad value `ValueError`.
+    `left_out`, `left_out_all`, `before.rms_px`, `after.rms_px`, `candidates`, ...; with the
+    series the window plots as numpy arrays: `fitted_frames`, `residual_before_px`,
+    `residual_after_px`, `window_s`, `trace_data_px`, ..., and the `signature`); a recording
+    that cannot be diagnosed raises `ringlab.FitError`, a bad value `ValueError`.
     """
     r = _recording(rec)
     cb, bar = callback(progress)
@@ -284,7 +288,12 @@ def diagnose(
     finally:
         if bar is not None:
             bar.finish()
-    return Diagnosis._from_json(json.loads(out))
+    text, signature, raw = out
+    return Diagnosis._from_json(
+        json.loads(text),
+        signature=Signature._from_json(json.loads(signature)),
+        **arrays(raw, ints=("fitted_frames",)),
+    )
 
 
 def presets() -> List[str]:

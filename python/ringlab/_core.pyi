@@ -13,6 +13,8 @@ class FitError(RuntimeError):
     """A fit or diagnosis that cannot be made from this recording."""
 
 Progress = Optional[Callable[[float, str], object]]
+# Named float64 arrays: (name, shape, the bytes of a C-ordered array).
+Arrays = List[Tuple[str, List[int], bytes]]
 
 class Recording:
     @staticmethod
@@ -31,6 +33,8 @@ class Recording:
         columns: Optional[Sequence[str]] = None,
         unit: Optional[str] = None,
         y_up: bool = False,
+        table: Optional[bytes] = None,
+        table_header_rows: int = 0,
     ) -> Recording: ...
     @staticmethod
     def from_arrays(
@@ -92,13 +96,13 @@ def fit(
     lens_k1: float = 0.0,
     progress: Progress = None,
     threads: Optional[int] = None,
-) -> str: ...
+) -> Tuple[str, Arrays]: ...
 def diagnose(
     rec: Recording,
     candidates: Optional[Sequence[str]] = None,
     evidence: Optional[float] = None,
     progress: Progress = None,
     threads: Optional[int] = None,
-) -> str: ...
+) -> Tuple[str, str, Arrays]: ...
 def presets() -> List[str]: ...
 def effects() -> List[Tuple[str, str, bool]]: ...

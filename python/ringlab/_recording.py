@@ -7,7 +7,7 @@ import json
 import os
 from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
-from . import _core
+from . import _core, _dlc_h5
 
 # numpy is imported where arrays are made: a diagnosis of a file needs none, and
 # `import ringlab` stays a few milliseconds.
@@ -87,8 +87,9 @@ class Recording:
         unit: Optional[str] = None,
         y_up: bool = False,
     ) -> "Recording":
-        """Reads a recording: format v1, a DeepLabCut CSV, a Tracker data table (one file per
-        point mass: give a list) or `.trk` project, a TrackMate spots CSV, or a plain CSV.
+        """Reads a recording: format v1, a DeepLabCut CSV or HDF5 file (`.h5`, read with pandas
+        and PyTables), a Tracker data table (one file per point mass: give a list) or `.trk`
+        project, a TrackMate spots CSV, or a plain CSV.
 
         The keywords are `ringlab import`'s flags, for what a tracker's file does not say:
         `format` (`dlc`, `tracker`, `trackmate`, `csv`; default: told from the file), `fps`,
@@ -98,13 +99,19 @@ class Recording:
         A v1 file says everything itself and ignores them (`notes` says so).
 
         Raises `ringlab.RecordingError` (a `ValueError`) for a file that cannot be read as a
-        recording, with the file and line; `FileNotFoundError` for a missing file; `ValueError`
-        for a bad keyword.
+        recording, with the file and line (an HDF5 file: its table's row); `FileNotFoundError`
+        for a missing file; `ValueError` for a bad keyword; `ImportError` for an HDF5 file
+        where pandas or PyTables (`tables`) is not installed.
         """
         paths = [path] if isinstance(path, (str, bytes, os.PathLike)) else list(path)
         if not paths:
             raise ValueError("path: no file given")
         files = [_existing(p) for p in paths]
+        table: Tuple[Optional[bytes], int] = (None, 0)
+        if len(files) == 1 and _dlc_h5.is_hdf5(files[0]):
+            if format is not None and format.lower() in ("tracker", "trackmate", "csv"):
+                raise ValueError(f"format '{format}': {files[0]} is an HDF5 file, read as DeepLabCut's table (format='dlc')")
+            table = _dlc_h5.as_csv(files[0])
         rec = _core.Recording.read(
             files,
             format=format,
@@ -115,6 +122,8 @@ class Recording:
             columns=None if columns is None else [str(c) for c in columns],
             unit=unit,
             y_up=bool(y_up),
+            table=table[0],
+            table_header_rows=table[1],
             **_body_args(body),
         )
         return cls(rec)

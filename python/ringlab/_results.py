@@ -11,6 +11,30 @@ from typing import Any, Dict, List, Optional, Tuple, Type, TypeVar
 # Fields the CLI leaves out of its JSON when they are None (serde's skip_serializing_if).
 _OMIT_NONE = {"omit_none": True}
 
+# A numpy array (numpy is imported where arrays are made, so `import ringlab` needs none).
+NDArray = Any
+
+
+def _beyond_json(doc: str) -> Any:
+    """A field the CLI's JSON does not have (what the window draws: numpy arrays, the
+    signature): given by the call beside the JSON, left out of `to_dict()` and `==`."""
+    return dataclasses.field(default=None, repr=False, compare=False, metadata={"beyond_json": True, "doc": doc})
+
+
+def _json_fields(cls: type) -> List[dataclasses.Field]:  # type: ignore[type-arg]
+    return [f for f in dataclasses.fields(cls) if not f.metadata.get("beyond_json")]
+
+
+def arrays(raw: List[Tuple[str, List[int], bytes]], ints: Tuple[str, ...] = ()) -> Dict[str, NDArray]:
+    """The core's arrays, (name, shape, float64 bytes), as numpy arrays (`ints` as int64)."""
+    import numpy as np
+
+    out = {}
+    for name, shape, data in raw:
+        a = np.frombuffer(data, dtype=np.float64).reshape(shape).copy()
+        out[name] = a.astype(np.int64) if name in ints else a
+    return out
+
 
 def _plain(value: Any) -> Any:
     if isinstance(value, _Result):
@@ -45,19 +69,20 @@ class _Result:
     """A result object: attributes as the JSON's keys; `to_dict()` is the JSON object."""
 
     @classmethod
-    def _from_json(cls: Type[R], data: Dict[str, Any]) -> R:
+    def _from_json(cls: Type[R], data: Dict[str, Any], **beyond: Any) -> R:
+        """From the JSON object, with the fields beyond it (`_beyond_json`) as given."""
         hints = typing.get_type_hints(cls)
-        names = [f.name for f in dataclasses.fields(cls)]  # type: ignore[arg-type]
+        names = [f.name for f in _json_fields(cls)]
         unknown = set(data) - set(names)
         if unknown:
             # The Rust side and these classes are one package: a key without a field is a bug.
             raise RuntimeError(f"{cls.__name__}: unexpected keys {sorted(unknown)}")
-        return cls(**{n: _build(hints[n], data.get(n)) for n in names})
+        return cls(**{n: _build(hints[n], data.get(n)) for n in names}, **beyond)
 
     def to_dict(self) -> Dict[str, Any]:
         """The object as the CLI prints it with `--json` (plain dicts, lists and numbers)."""
         out: Dict[str, Any] = {}
-        for f in dataclasses.fields(self):  # type: ignore[arg-type]
+        for f in _json_fields(type(self)):
             value = getattr(self, f.name)
             if value is None and f.metadata.get("omit_none"):
                 continue
@@ -154,12 +179,45 @@ class NoiseCorrelation(_Result):
 
 
 @dataclasses.dataclass(frozen=True)
+class Signature(_Result):
+    """The measured features of the mismatch that tell the effects apart (the core's
+    `Signature`; not in the CLI's JSON): where the baseline fitted to a growing stretch from the
+    start stops following the recording (s, None if never) and that stretch's share of the run;
+    the baseline's RMS in the first, middle and last third (px) and the share of its misfit
+    beyond the noise in the last; when the motion ends in the recording, the baseline and the
+    chosen model (s); the share of the baseline's misfit, and of the change to the chosen
+    model, that points radially from the image centre; where the chosen model slides (s)."""
+
+    departure_s: Optional[float]
+    followed_share: Optional[float]
+    thirds_rms_px: List[Optional[float]]
+    late_share: Optional[float]
+    end_data_s: Optional[float]
+    end_before_s: Optional[float]
+    end_after_s: Optional[float]
+    radial_share: Optional[float]
+    change_radial_share: Optional[float]
+    slides_s: List[List[float]]
+
+
+@dataclasses.dataclass(frozen=True)
 class Diagnosis(_Result):
     """What `ringlab.diagnose` found: the object of `ringlab diagnose --json`.
 
     `left_out` is `none`, `unexplained` or the first effect named, `left_out_all` every effect
     named; `before` and `after` the paper's model and the chosen one on the same misfit;
     `candidates` every candidate with the baseline, best first; `explanation` in words.
+
+    Beyond the JSON, what the window plots, as numpy arrays over the fitted frames:
+    `fitted_frames` (indices into the recording's arrays) and `time_s`; the RMS residual per
+    frame (px, over its tracked coordinates; NaN where none) of the baseline
+    (`residual_before_px`), of the chosen model (`residual_after_px`) and of the baseline fitted
+    only to the stretch it follows and run on (`residual_followed_px`); the test windows
+    (`window_s`, (windows, 2), start and end in s) with their RMS (`window_before_px`,
+    `window_after_px`, `window_followed_px`) and the RMS above which a window departs
+    (`window_threshold_px`); point A in the image (`trace_data_px`, NaN where a mark is
+    missing, `trace_before_px`, `trace_after_px`, each (frames, 2)) and the image's size
+    (`image_px`); and the mismatch's `signature`.
     """
 
     left_out: str
@@ -181,6 +239,21 @@ class Diagnosis(_Result):
     frames: int
     frames_fitted: int
     segments_rms_px: float
+    fitted_frames: NDArray = _beyond_json("indices of the fitted frames (int64)")
+    time_s: NDArray = _beyond_json("the fitted frames' times (s)")
+    residual_before_px: NDArray = _beyond_json("the baseline's RMS residual per fitted frame (px)")
+    residual_after_px: NDArray = _beyond_json("the chosen model's RMS residual per fitted frame (px)")
+    residual_followed_px: NDArray = _beyond_json("the baseline fitted to the stretch it follows, run on (px)")
+    window_s: NDArray = _beyond_json("the test windows, (windows, 2): start and end (s)")
+    window_before_px: NDArray = _beyond_json("the baseline's RMS in each window (px)")
+    window_after_px: NDArray = _beyond_json("the chosen model's RMS in each window (px)")
+    window_followed_px: NDArray = _beyond_json("the followed stretch's fit's RMS in each window (px)")
+    window_threshold_px: NDArray = _beyond_json("the RMS above which a window departs (px)")
+    trace_data_px: NDArray = _beyond_json("point A in the image per fitted frame, (frames, 2) (px)")
+    trace_before_px: NDArray = _beyond_json("point A of the baseline, (frames, 2) (px)")
+    trace_after_px: NDArray = _beyond_json("point A of the chosen model, (frames, 2) (px)")
+    image_px: NDArray = _beyond_json("the image's width and height (px)")
+    signature: Optional[Signature] = _beyond_json("the measured features of the mismatch")
 
     def __repr__(self) -> str:
         return (
@@ -209,6 +282,14 @@ class FitResult(_Result):
     `c` the drag coefficients C1..C3 with `c_sigma`; the start state at the first inner turning
     point in model units (`theta0`, `phidot0`, `psidot0`, `thetadot0`, `phi0`; a length unit of
     `length_unit_mm` and a time unit of `time_unit_s`); `rms_px` the multiple-shooting misfit.
+
+    Beyond the JSON, what the window draws over the film, as numpy arrays over the recording's
+    frames: `predicted_marks` (frames, 4, 2), the fitted model's marks in pixels (each segment
+    from its fitted state), NaN outside the fitted segments; `mark_residual_px` (frames, 4),
+    each mark's distance from its tracked position, and `residual_px` (frames), the RMS over
+    each frame's coordinates: NaN where the model gives no mark, the mark was not tracked or
+    was left out as a tracker's glitch, so that they cover the `residuals` coordinates that
+    `rms_px` is taken over (`rms_px == sqrt(nansum(mark_residual_px**2) / residuals)`).
     """
 
     c: List[float]
@@ -234,6 +315,9 @@ class FitResult(_Result):
     parameters: int
     coarse_c: Optional[List[float]]
     effect: Optional[FitEffect]
+    predicted_marks: NDArray = _beyond_json("the model's marks, (frames, 4, 2) (px)")
+    mark_residual_px: NDArray = _beyond_json("each mark's distance from the model's, (frames, 4) (px)")
+    residual_px: NDArray = _beyond_json("the RMS residual per frame (px)")
 
 
 # --- simulate -------------------------------------------------------------------------------
@@ -299,4 +383,4 @@ class RunSummary(_Result):
 
 def field_names(cls: type) -> Tuple[str, ...]:
     """The JSON keys of a result class, in the CLI's order."""
-    return tuple(f.name for f in dataclasses.fields(cls))
+    return tuple(f.name for f in _json_fields(cls))

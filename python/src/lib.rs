@@ -6,6 +6,7 @@
 mod case;
 mod errors;
 mod recording;
+mod series;
 mod worker;
 
 use errors::{FitError, RecordingError, diagnose_error, fit_error};
@@ -152,12 +153,13 @@ fn synth(
     Ok(PyRecording::new(synth.recording, format!("synth of {}", case.name), "ringlab synth"))
 }
 
-/// `ringlab fit`: the fit as `fit --json`'s JSON.
+/// `ringlab fit`: the fit as `fit --json`'s JSON, with the model's marks and residuals frame
+/// by frame (`series::fit_arrays`).
 #[pyfunction]
 #[pyo3(signature = (rec, segment_frames=60, merges=2, coarse=true, c_start=None, effect=None, effect_start=0.0, lens_k1=0.0, progress=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
-fn fit(
-    py: Python<'_>,
+fn fit<'py>(
+    py: Python<'py>,
     rec: &PyRecording,
     segment_frames: usize,
     merges: usize,
@@ -168,7 +170,7 @@ fn fit(
     lens_k1: f64,
     progress: Option<Bound<'_, PyAny>>,
     threads: Option<usize>,
-) -> PyResult<String> {
+) -> PyResult<(String, series::Arrays<'py>)> {
     let defaults = FitOptions::default();
     let c_start = c_start.unwrap_or(defaults.c_start);
     if c_start.iter().any(|c| !(c.is_finite() && *c > 0.0)) {
@@ -206,7 +208,10 @@ fn fit(
         core_fit(recording, &opts, &on_progress, cancel)
     })?;
     match result {
-        Ok(r) => to_json(&ringlab_core::analysis::json::FitReport::new(&r)),
+        Ok(r) => Ok((
+            to_json(&ringlab_core::analysis::json::FitReport::new(&r))?,
+            series::fit_arrays(py, &r, recording),
+        )),
         // Cancelled only by our flag, which only Ctrl-C (raised above) sets.
         Err(ringlab_core::analysis::fit::FitError::Cancelled) => {
             Err(PyKeyboardInterrupt::new_err("the fit was cancelled"))
@@ -215,17 +220,18 @@ fn fit(
     }
 }
 
-/// `ringlab diagnose`: the diagnosis as `diagnose --json`'s JSON.
+/// `ringlab diagnose`: the diagnosis as `diagnose --json`'s JSON, the signature of its
+/// mismatch as JSON, and the series its plots show (`series::diagnosis_arrays`).
 #[pyfunction]
 #[pyo3(signature = (rec, candidates=None, evidence=None, progress=None, threads=None))]
-fn diagnose(
-    py: Python<'_>,
+fn diagnose<'py>(
+    py: Python<'py>,
     rec: &PyRecording,
     candidates: Option<Vec<String>>,
     evidence: Option<f64>,
     progress: Option<Bound<'_, PyAny>>,
     threads: Option<usize>,
-) -> PyResult<String> {
+) -> PyResult<(String, String, series::Arrays<'py>)> {
     let mut opts = DiagnoseOptions::default();
     if let Some(x) = evidence {
         if !(x.is_finite() && x >= 0.0) {
@@ -251,7 +257,11 @@ fn diagnose(
         core_diagnose(recording, &opts, &on_progress, cancel)
     })?;
     match result {
-        Ok(d) => to_json(&ringlab_core::analysis::json::DiagnoseJson::new(&d)),
+        Ok(d) => Ok((
+            to_json(&ringlab_core::analysis::json::DiagnoseJson::new(&d))?,
+            to_json(&d.signature)?,
+            series::diagnosis_arrays(py, &d),
+        )),
         Err(DiagnoseError::Cancelled) => {
             Err(PyKeyboardInterrupt::new_err("the diagnosis was cancelled"))
         }

@@ -9,8 +9,8 @@ use pyo3::types::PyBytes;
 use ringlab_core::config::load_preset;
 use ringlab_core::physics::Shape;
 use ringlab_core::recording::import::{
-    BodyMm, Format, ImportErrorKind, ImportOptions, LengthUnit, PointTracks, Source, import,
-    points::assemble,
+    BodyMm, Format, ImportError, ImportErrorKind, ImportOptions, LengthUnit, PointTracks, Source,
+    import, import_bytes, points::assemble,
 };
 use ringlab_core::recording::read::MAX_TILT_DEG;
 use ringlab_core::recording::{MARKS, Recording, write_recording, write_recording_exact};
@@ -103,6 +103,19 @@ fn check_camera(distance_mm: Option<f64>, tilt_deg: Option<f64>) -> PyResult<()>
     Ok(())
 }
 
+/// An error of a table written as CSV, at its table's row rather than the CSV's line (the
+/// rows after the header's; the header's are the column names, no line of the HDF5 file).
+fn table_row(mut e: ImportError, header_rows: usize) -> ImportError {
+    if let Some(line) = e.line.take() {
+        let at = match line.checked_sub(header_rows + 1) {
+            Some(row) => format!("row {row} of its table"),
+            None => "its table's columns".to_string(),
+        };
+        e.path = PathBuf::from(format!("{} ({at})", e.path.display()));
+    }
+    e
+}
+
 impl PyRecording {
     pub fn new(rec: Recording, name: String, source: &'static str) -> PyRecording {
         PyRecording { rec, name, source, marks: Vec::new(), notes: Vec::new() }
@@ -112,8 +125,11 @@ impl PyRecording {
 #[pymethods]
 impl PyRecording {
     /// Reads a recording: format v1, or a tracker's file(s) as `ringlab import` reads them.
+    /// `table`: DeepLabCut's table read from `paths[0]` (an HDF5 file) by pandas, written as
+    /// its CSV (`table_header_rows` rows of column names): read by the core's DeepLabCut
+    /// reader as the CSV would be, with the HDF5 file named.
     #[staticmethod]
-    #[pyo3(signature = (paths, format=None, fps=None, px_per_mm=None, marks=None, min_likelihood=None, body_preset=None, shape=None, outer_radius_mm=None, width_mm=None, thickness_mm=None, columns=None, unit=None, y_up=false))]
+    #[pyo3(signature = (paths, format=None, fps=None, px_per_mm=None, marks=None, min_likelihood=None, body_preset=None, shape=None, outer_radius_mm=None, width_mm=None, thickness_mm=None, columns=None, unit=None, y_up=false, table=None, table_header_rows=0))]
     #[allow(clippy::too_many_arguments)]
     fn read(
         paths: Vec<PathBuf>,
@@ -130,6 +146,8 @@ impl PyRecording {
         columns: Option<Vec<String>>,
         unit: Option<String>,
         y_up: bool,
+        table: Option<&[u8]>,
+        table_header_rows: usize,
     ) -> PyResult<PyRecording> {
         let from = format
             .as_deref()
@@ -167,12 +185,24 @@ impl PyRecording {
             y_up,
         };
         let name = paths.first().map_or("-".into(), |p| p.display().to_string());
-        let imported = import(&paths, from, &opts).map_err(|e| import_error(&e))?;
+        let (imported, source) = match (table, paths.first()) {
+            (Some(text), Some(path)) => {
+                let files = [(path.clone(), text.to_vec())];
+                let imported = import_bytes(&files, Some(Format::Dlc), &opts)
+                    .map_err(|e| import_error(&table_row(e, table_header_rows)))?;
+                (imported, "DeepLabCut HDF5")
+            }
+            _ => {
+                let imported = import(&paths, from, &opts).map_err(|e| import_error(&e))?;
+                let source = imported.report.source.name();
+                (imported, source)
+            }
+        };
         let report = imported.report;
         Ok(PyRecording {
             rec: imported.recording,
             name,
-            source: report.source.name(),
+            source,
             marks: report.marks,
             notes: report.notes,
         })

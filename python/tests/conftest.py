@@ -47,6 +47,15 @@ def run_cli(args: List[str], cwd: Optional[Path] = None) -> str:
 _cache: Dict[Any, Any] = {}
 
 
+def cli_json(args: List[str]) -> Any:
+    """The CLI's JSON for `args`, run once per session (a diagnosis takes ~10 s). A copy: the
+    tests may pop keys."""
+    key = ("cli",) + tuple(args)
+    if key not in _cache:
+        _cache[key] = run_cli(args)
+    return json.loads(_cache[key])
+
+
 def diagnosis_of(name: str) -> ringlab.Diagnosis:
     """`tests/data/independent/NAME.csv` diagnosed once per session (each takes ~10 s)."""
     key = ("diagnose", name)

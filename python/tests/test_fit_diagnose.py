@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ringlab
-from conftest import DATA, EXPECTED, diagnosis_of, fit_of_sample, needs_cli, run_cli
+from conftest import DATA, EXPECTED, cli_json, diagnosis_of, fit_of_sample, needs_cli
 
 INDEPENDENT = ["glitches", "two-effects"]
 
@@ -49,7 +49,7 @@ def test_the_diagnosis_gives_the_figures_the_cli_printed(name):
 @needs_cli
 @pytest.mark.parametrize("name", INDEPENDENT)
 def test_the_diagnosis_is_the_cli_s_json(name):
-    cli = json.loads(run_cli(["diagnose", str(DATA / "independent" / f"{name}.csv"), "--json"]))
+    cli = cli_json(["diagnose", str(DATA / "independent" / f"{name}.csv"), "--json"])
     mine = diagnosis_of(name).to_dict()
     cli.pop("compute_seconds"), mine.pop("compute_seconds")
     assert list(mine) == list(cli)  # the same names, in the same order
@@ -66,7 +66,7 @@ def test_the_fit_gives_the_figures_the_cli_printed():
 
 @needs_cli
 def test_the_fit_is_the_cli_s_json():
-    cli = json.loads(run_cli(["fit", str(DATA / "sample-ring.csv"), "--json"]))
+    cli = cli_json(["fit", str(DATA / "sample-ring.csv"), "--json"])
     mine = fit_of_sample().to_dict()
     cli.pop("compute_seconds"), mine.pop("compute_seconds")
     assert list(mine) == list(cli)
@@ -183,3 +183,130 @@ def test_a_recording_that_cannot_be_fitted_is_a_fit_error():
     with pytest.raises(ringlab.FitError) as e:
         ringlab.diagnose(rec, progress=False)
     assert str(e.value).startswith("diagnosing arrays: ")
+
+
+# --- what the window draws: the arrays beside the JSON ------------------------------------------
+
+
+def check_fit_arrays(f: ringlab.FitResult, rec: ringlab.Recording, rms_px: float, residuals: int) -> None:
+    """The fit's arrays against its rms_px and residual count (given as the CLI printed them)."""
+    n = rec.frames
+    assert f.predicted_marks.shape == (n, 4, 2) and f.mark_residual_px.shape == (n, 4) and f.residual_px.shape == (n,)
+    finite = np.isfinite(f.mark_residual_px)
+    assert 2 * int(finite.sum()) == residuals
+    rms = np.sqrt(np.nansum(f.mark_residual_px**2) / (2 * finite.sum()))
+    assert abs(rms / rms_px - 1) < 1e-12, (rms, rms_px)
+    # Each residual is the mark's distance from the model's, where both are.
+    apart = np.hypot(*np.moveaxis(f.predicted_marks - rec.marks, 2, 0))
+    assert np.allclose(apart[finite], f.mark_residual_px[finite], rtol=1e-14, atol=0)
+    assert np.isnan(f.mark_residual_px[np.isnan(rec.marks[:, :, 0])]).all()
+    # Per frame: the RMS over the frame's coordinates with a residual.
+    counts = finite.sum(axis=1)
+    per_frame = np.sqrt(np.nansum(f.mark_residual_px**2, axis=1) / np.maximum(2 * counts, 1))
+    assert np.array_equal(np.isnan(f.residual_px), counts == 0)
+    assert np.allclose(f.residual_px[counts > 0], per_frame[counts > 0], rtol=1e-14, atol=0)
+    # The model's marks cover one stretch of frames, the fitted ones.
+    covered = np.flatnonzero(np.isfinite(f.predicted_marks).all(axis=(1, 2)))
+    assert len(covered) == covered[-1] - covered[0] + 1
+    assert np.isnan(f.predicted_marks[np.setdiff1d(np.arange(n), covered)]).all()
+
+
+def test_the_fit_s_arrays_give_its_misfit():
+    f = fit_of_sample()
+    check_fit_arrays(f, ringlab.Recording.read(DATA / "sample-ring.csv"), f.rms_px, f.residuals)
+    # The start (the first inner turning point) lies in the fitted stretch.
+    covered = np.flatnonzero(np.isfinite(f.residual_px))
+    assert covered[0] <= f.start_frame <= covered[-1]
+    assert "predicted_marks" not in f.to_dict() and "predicted_marks" not in repr(f)
+
+
+def test_a_glitch_has_no_residual():
+    rec = ringlab.Recording.read(DATA / "independent" / "glitches.csv")
+    f = ringlab.fit(rec, progress=False, coarse=False, merges=0)
+    d = diagnosis_of("glitches")
+    check_fit_arrays(f, rec, f.rms_px, f.residuals)
+    marks = rec.marks
+    inside = [g for g in d.glitch_marks if np.isfinite(f.predicted_marks[g.frame - rec.first_frame, g.mark - 1, 0])]
+    assert len(inside) > 10, len(inside)
+    for g in inside:
+        i, k = g.frame - rec.first_frame, g.mark - 1
+        assert np.isfinite(marks[i, k, 0]) and np.isnan(f.mark_residual_px[i, k]), g
+
+
+@needs_cli
+def test_the_fit_s_arrays_give_the_cli_s_misfit():
+    cli = cli_json(["fit", str(DATA / "sample-ring.csv"), "--json"])
+    check_fit_arrays(fit_of_sample(), ringlab.Recording.read(DATA / "sample-ring.csv"), cli["rms_px"], cli["residuals"])
+
+
+def frame_counts(d: ringlab.Diagnosis, rec: ringlab.Recording) -> np.ndarray:
+    """Coordinates per fitted frame: the marks tracked, less the glitches left out."""
+    tracked = np.isfinite(rec.marks[:, :, 0])
+    for g in d.glitch_marks:
+        tracked[g.frame - rec.first_frame, g.mark - 1] = False
+    return 2 * tracked[d.fitted_frames].sum(axis=1)
+
+
+def series_rms(per_frame: np.ndarray, counts: np.ndarray) -> float:
+    return float(np.sqrt(np.nansum(per_frame**2 * counts) / counts.sum()))
+
+
+def check_diagnosis_arrays(d: ringlab.Diagnosis, rec: ringlab.Recording, before_px: float, after_px: float) -> None:
+    n = d.frames_fitted
+    assert d.fitted_frames.dtype == np.int64 and np.array_equal(d.fitted_frames, np.arange(n) + d.fitted_frames[0])
+    assert np.array_equal(d.time_s, rec.time_s[d.fitted_frames])
+    counts = frame_counts(d, rec)
+    for series, rms in ((d.residual_before_px, before_px), (d.residual_after_px, after_px)):
+        assert series.shape == (n,) and np.array_equal(np.isnan(series), counts == 0)
+        assert abs(series_rms(series, counts) / rms - 1) < 1e-12, (series_rms(series, counts), rms)
+    assert d.residual_followed_px.shape == (n,)
+    # Each test window's RMS is its frames' together, for all three models.
+    w = len(d.window_s)
+    assert d.window_s.shape == (w, 2) and w >= n // 30
+    frames = np.rint(d.window_s * rec.fps).astype(int) - rec.first_frame - d.fitted_frames[0]
+    assert frames[0, 0] == 0 and frames[-1, 1] == n and np.array_equal(frames[1:, 0], frames[:-1, 1])
+    for per_frame, windows in (
+        (d.residual_before_px, d.window_before_px),
+        (d.residual_after_px, d.window_after_px),
+        (d.residual_followed_px, d.window_followed_px),
+    ):
+        got = [series_rms(per_frame[a:b], counts[a:b]) for a, b in frames]
+        assert np.allclose(got, windows, rtol=1e-12, atol=0)
+    assert (d.window_threshold_px > d.noise_px).all()
+    # Point A: the marks' centroid, where all four were tracked (and none left out).
+    all_four = counts == 8
+    centroid = rec.marks[d.fitted_frames].mean(axis=1)
+    assert np.allclose(d.trace_data_px[all_four], centroid[all_four], rtol=0, atol=1e-9)
+    assert np.isnan(d.trace_data_px[~all_four]).all()
+    for model in (d.trace_before_px, d.trace_after_px):
+        assert model.shape == (n, 2) and np.isfinite(model).all()
+    assert d.image_px.tolist() == list(rec.image_size or d.image_px.tolist())
+
+
+@pytest.mark.parametrize("name", INDEPENDENT)
+def test_the_diagnosis_s_series_give_its_misfits(name):
+    d = diagnosis_of(name)
+    rec = ringlab.Recording.read(DATA / "independent" / f"{name}.csv")
+    check_diagnosis_arrays(d, rec, d.before.rms_px, d.after.rms_px)
+    assert isinstance(d.signature, ringlab.Signature) and len(d.signature.thirds_rms_px) == 3
+    assert "residual_before_px" not in d.to_dict() and "signature" not in d.to_dict()
+
+
+def test_the_series_show_what_the_diagnosis_found():
+    # two-effects: the baseline misses by 15 px against 0.5 px of noise, the chosen model not.
+    d = diagnosis_of("two-effects")
+    assert (d.window_before_px > d.window_threshold_px).mean() > 0.5
+    assert (d.window_after_px > d.window_threshold_px).mean() < 0.1
+    assert np.nanmedian(d.residual_after_px) < 2 * d.noise_px < np.nanmedian(d.residual_before_px)
+    # glitches: nothing left out, so before and after are one model.
+    g = diagnosis_of("glitches")
+    assert np.array_equal(g.residual_before_px, g.residual_after_px, equal_nan=True)
+
+
+@needs_cli
+@pytest.mark.parametrize("name", INDEPENDENT)
+def test_the_diagnosis_s_series_give_the_cli_s_misfits(name):
+    cli = cli_json(["diagnose", str(DATA / "independent" / f"{name}.csv"), "--json"])
+    rec = ringlab.Recording.read(DATA / "independent" / f"{name}.csv")
+    check_diagnosis_arrays(diagnosis_of(name), rec, cli["before"]["rms_px"], cli["after"]["rms_px"])
+    assert diagnosis_of(name).frames_fitted == cli["frames_fitted"]

@@ -3,6 +3,8 @@ to the same file read), written back, and every error."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -89,7 +91,7 @@ def dlc_frame(rec):
 
 
 def docs_recipe(df):
-    """docs/python.md's lines from DeepLabCut's DataFrame to a recording."""
+    """docs/python.md's lines from a DeepLabCut DataFrame in hand to a recording."""
     df = df.droplevel("scorer", axis=1)[["m1", "m2", "m3", "m4"]]  # the marks, in cyclic order round the rim
     xy = df.drop(columns="likelihood", level="coords").to_numpy().reshape(len(df), 4, 2)
     xy[df.xs("likelihood", axis=1, level="coords").to_numpy() < 0.6] = np.nan  # as `ringlab import --from dlc`
@@ -235,7 +237,7 @@ def test_the_docs_example_runs_as_written(tmp_path, monkeypatch, capsys):
 
     text = (REPO / "docs" / "python.md").read_text()
     code = text.split("```python\n", 1)[1].split("```", 1)[0]
-    name = code.split('pd.read_hdf("', 1)[1].split('"', 1)[0]
+    name = re.search(r'"([^"]+\.h5)"', code).group(1)
     short = ringlab.Recording.read(SAMPLE).marks[:600]
     rec = ringlab.Recording.from_arrays(short, fps=300, px_per_mm=3.364764, body="paper-ring")
     dlc_frame(rec).to_hdf(tmp_path / name, key="df_with_missing", format="table")
@@ -243,3 +245,136 @@ def test_the_docs_example_runs_as_written(tmp_path, monkeypatch, capsys):
     exec(compile(code, "docs/python.md", "exec"), {})
     printed = capsys.readouterr().out.splitlines()
     assert printed[0].split()[0] in ["none", "unexplained", *ringlab.effects()], printed
+    assert len(printed) >= 3, printed  # the explanation, and the frame the fit misses most
+
+
+# --- DeepLabCut's HDF5 files ---------------------------------------------------------------------
+
+
+def dlc_csv_and_h5(tmp_path, df):
+    """A DeepLabCut CSV of `df`, and an HDF5 file of that CSV's data as pandas reads it (every
+    number as the CSV writes it), under DeepLabCut's key."""
+    import pandas as pd
+
+    csv = tmp_path / "ringDLC.csv"
+    df.to_csv(csv)
+    table = pd.read_csv(csv, header=[0, 1, 2], index_col=0)
+    # pandas reads back the numbers it wrote (repr's digits), to the bit.
+    assert table.to_numpy().tobytes() == df.to_numpy().tobytes()
+    h5 = tmp_path / "ringDLC.h5"
+    table.to_hdf(h5, key="df_with_missing", format="table")
+    return csv, h5
+
+
+@needs_hdf5
+def test_a_deeplabcut_hdf5_file_reads_as_its_csv_bit_for_bit(tmp_path):
+    marks = ringlab.Recording.read(SAMPLE).marks
+    marks[np.random.default_rng(3).random((len(marks), 4)) < 0.05] = np.nan
+    truth = ringlab.Recording.from_arrays(marks, fps=300, px_per_mm=3.364764, body="paper-ring")
+    csv, h5 = dlc_csv_and_h5(tmp_path, dlc_frame(truth))
+    kw = dict(fps=300, px_per_mm=3.364764, body="paper-ring")
+    from_csv, from_h5 = ringlab.Recording.read(csv, **kw), ringlab.Recording.read(h5, **kw)
+    assert from_h5 == from_csv == truth
+    assert from_h5.marks.tobytes() == from_csv.marks.tobytes()
+    assert (from_h5.source, from_h5.name) == ("DeepLabCut HDF5", str(h5))
+    assert from_h5.mark_names == from_csv.mark_names and from_h5.notes == from_csv.notes
+    assert any("likelihood" in n for n in from_h5.notes)
+    # The same likelihood cut, the same keywords: a higher one drops more marks.
+    strict = dict(kw, min_likelihood=0.9)
+    assert ringlab.Recording.read(h5, **strict) == ringlab.Recording.read(csv, **strict)
+    assert ringlab.Recording.read(h5, **strict).marks_tracked < from_h5.marks_tracked
+    # DeepLabCut's own file (fixed format, written from the DataFrame it made) reads the same.
+    dlc_frame(truth).to_hdf(tmp_path / "fixed.h5", key="df_with_missing")
+    assert ringlab.Recording.read(tmp_path / "fixed.h5", **kw) == truth
+
+
+@needs_hdf5
+def test_a_multi_animal_hdf5_file_names_its_marks_by_individual(tmp_path):
+    import pandas as pd
+
+    truth = ringlab.Recording.read(SAMPLE)
+    one = dlc_frame(truth)
+    other = one + 40.0  # a second ring beside the first
+    both = pd.concat([one, other], axis=1, keys=["ring1", "ring2"], names=["individuals"])
+    both = both.reorder_levels(["scorer", "individuals", "bodyparts", "coords"], axis=1)
+    both.to_hdf(tmp_path / "two.h5", key="df_with_missing")
+    kw = dict(fps=300, px_per_mm=3.364764, body="paper-ring")
+    rec = ringlab.Recording.read(tmp_path / "two.h5", marks=[f"ring1/m{k}" for k in range(1, 5)], **kw)
+    assert rec == ringlab.Recording.from_arrays(truth.marks, **kw)
+    assert rec.mark_names == ["ring1/m1", "ring1/m2", "ring1/m3", "ring1/m4"]
+    with pytest.raises(ValueError, match="'m1' is not in the file"):
+        ringlab.Recording.read(tmp_path / "two.h5", marks=["m1", "m2", "m3", "m4"], **kw)
+
+
+def bad_h5(tmp_path, make):
+    path = tmp_path / "bad.h5"
+    make(path)
+    with pytest.raises(ringlab.RecordingError) as e:
+        ringlab.Recording.read(path, fps=300, px_per_mm=3.36, body="paper-ring")
+    assert str(path) in str(e.value)
+    return str(e.value)
+
+
+@needs_hdf5
+def test_a_bad_hdf5_file_is_a_recording_error_naming_it(tmp_path):
+    import pandas as pd
+
+    good = dlc_frame(ringlab.Recording.read(SAMPLE)).iloc[:300]
+
+    def renamed(path):
+        cols = [(s, b, "p" if (b, c) == ("m2", "likelihood") else c) for s, b, c in good.columns]
+        df = good.copy()
+        df.columns = pd.MultiIndex.from_tuples(cols, names=good.columns.names)
+        df.to_hdf(path, key="df_with_missing")
+
+    def indexed(path, index):
+        df = good.copy()
+        df.index = index
+        df.to_hdf(path, key="df_with_missing")
+
+    def with_value(path, value):
+        df = good.copy()
+        df.iloc[3, 0] = value
+        df.to_hdf(path, key="df_with_missing")
+
+    def two_tables(path):
+        good.to_hdf(path, key="a")
+        good.to_hdf(path, key="b")
+
+    cases = [
+        (lambda p: p.write_text("scorer,bodyparts\n"), "cannot read it as a pandas HDF5 file"),
+        (lambda p: pd.DataFrame({"x": [1.0, 2.0]}).to_hdf(p, key="df_with_missing"), "its columns' levels are None, expected scorer, bodyparts, coords"),
+        (renamed, "columns 3 to 5 are (DLC_resnet50_ringsJan1shuffle1_100000, m2, x; "),
+        (lambda p: good.droplevel("scorer", axis=1).to_hdf(p, key="df_with_missing"), "levels are bodyparts, coords"),
+        (lambda p: good.iloc[:, :4].to_hdf(p, key="df_with_missing"), "4 columns, expected x, y and likelihood per point"),
+        (lambda p: pd.Series([1.0]).to_hdf(p, key="df_with_missing"), "is a Series, not a DataFrame"),
+        (two_tables, "2 tables (/a, /b) and none under '/df_with_missing'"),
+        (lambda p: indexed(p, [5 if i == 6 else i for i in range(300)]), "frame 5 is in its table twice (rows 5 and 6)"),
+        (lambda p: indexed(p, [f"img{i:03}.png" for i in range(300)]), "(row 0 of its table): frame 'img000.png' is not a whole number"),
+        (lambda p: with_value(p, np.inf), "(row 3 of its table): m1 x = inf is not a finite number"),
+        (lambda p: good.iloc[:, :9].to_hdf(p, key="df_with_missing"), "3 point(s) found (m1, m2, m3); four marks are needed"),
+    ]
+    for make, message in cases:
+        got = bad_h5(tmp_path, make)
+        assert message in got, (message, got)
+        (tmp_path / "bad.h5").unlink()
+
+
+@needs_hdf5
+def test_an_hdf5_file_is_not_read_as_another_format(tmp_path):
+    path = tmp_path / "ring.h5"
+    dlc_frame(ringlab.Recording.read(SAMPLE)).to_hdf(path, key="df_with_missing")
+    with pytest.raises(ValueError, match="an HDF5 file, read as DeepLabCut's table"):
+        ringlab.Recording.read(path, format="csv", fps=300, px_per_mm=3.36, body="paper-ring")
+
+
+@pytest.mark.parametrize("missing", ["pandas", "tables"])
+def test_an_hdf5_file_without_pandas_or_pytables_is_an_import_error(tmp_path, monkeypatch, missing):
+    import sys
+
+    path = tmp_path / "ring.h5"
+    path.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(100))
+    monkeypatch.setitem(sys.modules, missing, None)  # `import` of it now raises ImportError
+    with pytest.raises(ImportError) as e:
+        ringlab.Recording.read(path, fps=300, px_per_mm=3.36, body="paper-ring")
+    assert "pandas" in str(e.value) and "tables" in str(e.value)
