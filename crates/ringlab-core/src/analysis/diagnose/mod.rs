@@ -26,6 +26,8 @@ pub mod explain;
 mod in_order;
 pub mod noise_correlation;
 mod options;
+mod pairs;
+mod plan;
 mod progress;
 pub mod residual;
 mod result;

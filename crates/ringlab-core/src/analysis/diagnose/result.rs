@@ -80,6 +80,21 @@ pub fn extras_of(extras: &[ExtraFit], kind: EffectKind) -> Vec<(f64, f64)> {
     extras.iter().filter(|x| x.kind == kind).map(|x| x.value).collect()
 }
 
+/// The two extras that some readers name ([`ModelFit::tilt_deg`], [`ModelFit::rim_share`]),
+/// where fitted.
+pub(super) struct NamedExtras {
+    pub(super) tilt_deg: Option<(f64, f64)>,
+    pub(super) rim_share: Option<(f64, f64)>,
+}
+
+/// The camera's tilt and the rim's share of the Reynolds drag's speed among `extras`.
+pub(super) fn named_extras(extras: &[ExtraFit]) -> NamedExtras {
+    NamedExtras {
+        tilt_deg: extras_of(extras, EffectKind::CameraPerspective).first().copied(),
+        rim_share: extras_of(extras, EffectKind::ReynoldsDrag).first().copied(),
+    }
+}
+
 impl ModelFit {
     /// The fitted model's slip velocity at its first frame (mm/s, along the heading and across
     /// it), where it slides from there (`Effects::slip_start_velocity`).
