@@ -43,7 +43,7 @@ pub use options::{
     DiagnoseStage, SLIP_TOLERANCES,
 };
 pub use result::{
-    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, NamedShare, PairCandidate, Partial,
     ResidualSeries, Signature, Trace,
 };
 pub use rules::{

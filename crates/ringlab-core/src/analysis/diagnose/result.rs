@@ -153,6 +153,19 @@ pub struct PairCandidate {
     pub seconds: f64,
 }
 
+/// A named effect's part in the named model's improvement on the baseline.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct NamedShare {
+    pub effect: EffectKind,
+    /// The share (0 to 1) of the cost the named model removes from the baseline's that comes
+    /// back without this effect (1 for one effect named; for several the shares need not sum
+    /// to 1: effects can stand in for part of each other).
+    pub share: f64,
+    /// The misfit without this effect: the best model fitted with the named model's other
+    /// effects and not it (px rms; the baseline's for one effect).
+    pub rms_without_px: f64,
+}
+
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MismatchWindow {
@@ -304,6 +317,10 @@ pub struct Diagnosis {
     pub candidates: Vec<Candidate>,
     /// The pairs tried after an effect was named (best score first; empty when none were).
     pub pairs: Vec<PairCandidate>,
+    /// Each named effect's share of the improvement, in the order of `after`'s effects (empty
+    /// unless effects were named).
+    #[serde(default)]
+    pub shares: Vec<NamedShare>,
     /// The BIC drop an effect needed to be named.
     pub evidence: f64,
     /// The body's outer radius and width as the recording's header gives them (mm).

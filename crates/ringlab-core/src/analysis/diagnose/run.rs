@@ -12,8 +12,8 @@ use super::residual::{
     MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, Window, departures, frame_rms, frame_sums, windows,
 };
 use super::result::{
-    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
-    Signature, Trace, named_extras,
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, NamedShare, PairCandidate,
+    ResidualSeries, Signature, Trace, named_extras,
 };
 use super::rules::bic;
 use super::seen_camera::seen_camera;
@@ -85,7 +85,7 @@ pub fn diagnose(
         forward_selection(&sel, ranked)
     };
     let mut ranked = rank(&baseline, &fits, noise.dependence());
-    let (mut finding, mut chosen, mut pairs) = select(&mut ranked, &noise)?;
+    let (mut finding, mut chosen, mut shares, mut pairs) = select(&mut ranked, &noise)?;
     // A missing effect hides a tracker's correlation from the baseline's residual; the
     // residual of the model named (else of the best single candidate) may show it, and the
     // decision is made again against the noise corrected for it.
@@ -93,7 +93,7 @@ pub fn diagnose(
     let noise = match best.and_then(|w| noise.again_from(w, &ms, tracks.noise.as_ref())) {
         Some(corrected) => {
             ranked = rank(&baseline, &fits, corrected.dependence());
-            (finding, chosen, pairs) = select(&mut ranked, &corrected)?;
+            (finding, chosen, shares, pairs) = select(&mut ranked, &corrected)?;
             corrected
         }
         None => noise,
@@ -101,7 +101,8 @@ pub fn diagnose(
     laps.lap("pairs and the decision");
     progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
-    let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
+    let fit = chosen.as_ref().unwrap_or(&baseline);
+    let chosen = Chosen { finding, fit, candidates, shares, pairs };
     let decided = Decided {
         baseline: &baseline,
         chosen,
@@ -225,6 +226,7 @@ struct Chosen<'a> {
     finding: Finding,
     fit: &'a WholeFit,
     candidates: Vec<Candidate>,
+    shares: Vec<NamedShare>,
     pairs: Vec<PairCandidate>,
 }
 
@@ -384,7 +386,7 @@ fn describe(
 ) -> Result<Diagnosis, DiagnoseError> {
     let rec = &tracks.recording;
     let Decided { baseline, chosen, departure, noise, evidence } = decided;
-    let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
+    let Chosen { finding, fit: chosen, candidates, shares, pairs } = chosen;
     let clock = Clock { first_frame: rec.first_frame, fps: rec.header.fps, dt: base.dt };
     let misfits = Misfits::of(rec, ms, baseline, chosen, departure, noise)?;
     let span = baseline.span.clone();
@@ -419,6 +421,7 @@ fn describe(
         after: model_fit(chosen, score(chosen), base, &clock, signature.end_after_s),
         candidates,
         pairs,
+        shares,
         evidence,
         header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
         residuals,

@@ -7,11 +7,12 @@ use super::again::{
     Again, Fits, best_pair, effect_through_camera, effects_through_camera, walk_best_pair_again,
 };
 use super::candidates::refit_without;
+use super::noise_correlation::residual_dependence;
 use super::options::DiagnoseError;
 use super::pairs::{self, PairFit, pairs_stage};
 use super::plan;
 use super::progress::Reporter;
-use super::result::{Candidate, Finding, PairCandidate, Partial};
+use super::result::{Candidate, Finding, NamedShare, PairCandidate, Partial};
 use super::rules::{MIN_EXPLAINED, Reach, bic, explained_share, explains};
 use super::seen_camera::FoundCamera;
 use super::whole::{Level, WholeFit};
@@ -59,8 +60,13 @@ pub(super) struct Choosing<'a> {
     pub(super) pairs: Pairs,
 }
 
-/// The finding, the model that stands for it (`None`: the baseline) and the pairs tried.
-pub(super) type Selected = (Finding, Option<WholeFit>, Vec<PairCandidate>);
+/// The finding, the model that stands for it (`None`: the baseline), each named effect's share
+/// of the improvement and the pairs tried.
+pub(super) type Selected = (Finding, Option<WholeFit>, Vec<NamedShare>, Vec<PairCandidate>);
+
+/// The finding, the model that stands for it and that model fitted without each of its
+/// effects (empty for one effect: without it, it is the baseline).
+type Named = (Finding, Option<WholeFit>, Vec<WholeFit>);
 
 /// The decision ([`decide`]), then forward selection (the plan's selection phase): where the
 /// named effect, or no single one, leaves the misfit beyond the noise, larger models of the
@@ -76,8 +82,12 @@ pub(super) fn forward_selection(
     let pairs = work.pairs;
     let trimmed = sel.trimmed(&pairs)?;
     let best_pair = trimmed.as_ref().or_else(|| sel.best_of(&pairs));
-    let (finding, chosen) = sel.name(finding, chosen, best_pair, ranked)?;
-    Ok((finding, chosen, sel.pair_candidates(&pairs)))
+    let (finding, chosen, without) = sel.name(finding, chosen, best_pair, ranked)?;
+    let shares = match (&finding, &chosen) {
+        (Finding::Named(_), Some(m)) => sel.shares(m, &without, ranked),
+        _ => Vec::new(),
+    };
+    Ok((finding, chosen, shares, sel.pair_candidates(&pairs)))
 }
 
 impl Selection<'_> {
@@ -87,8 +97,58 @@ impl Selection<'_> {
 
     /// Whether model `with` is worth its numbers over `without` (the same model with fewer
     /// effects, or the model it would replace): the one test the decision and the naming make.
+    /// A BIC test, its BIC below `without`'s by the evidence asked, on the residuals that count
+    /// as independent: the noise's dependence from frame to frame, or that of `with`'s own
+    /// residual where larger ([`residual_dependence`]: a tracker's correlated noise that the
+    /// noise's test did not take for one, or motion the model misses). On white residuals the
+    /// two are the same; where the residual is correlated, a number that takes up a little of it
+    /// would otherwise buy many BIC points for nothing the recording can tell (docs/diagnosis.md,
+    /// "Parsimony").
     pub(super) fn worth(&self, with: &WholeFit, without: &WholeFit) -> bool {
-        self.score(with) < self.score(without) - self.evidence
+        let dependence = self.dependence.max(self.residual_dependence(with));
+        let n = self.baseline.residual_count;
+        let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
+        score(with) < score(without) - self.evidence
+    }
+
+    /// The dependence of `w`'s residual from frame to frame (1 where it cannot be run).
+    fn residual_dependence(&self, w: &WholeFit) -> f64 {
+        let Some(pred) = w.marks(self.ms) else { return 1.0 };
+        residual_dependence(self.ms.observed, w.span.start, &pred)
+    }
+
+    /// Each effect of `named`'s share of its improvement on the baseline: how much of the cost
+    /// it removes comes back without that effect. Without it is the best of the models fitted
+    /// that hold every other effect of `named` and not it: `named` refitted without it
+    /// (`without`), the single candidate of the other effect, the baseline (each nests the
+    /// baseline, so none ends worse than it).
+    fn shares(
+        &self,
+        named: &WholeFit,
+        without: &[WholeFit],
+        ranked: &[(Candidate, Option<&WholeFit>)],
+    ) -> Vec<NamedShare> {
+        let gain = self.baseline.cost - named.cost;
+        let kinds = named.kinds();
+        let share_of = |effect: EffectKind| {
+            let others: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != effect).collect();
+            let holds_others = |w: &WholeFit| {
+                let held = w.kinds();
+                !held.contains(&effect) && others.iter().all(|k| held.contains(k))
+            };
+            let singles = ranked.iter().filter_map(|(_, w)| *w);
+            let less = without
+                .iter()
+                .chain(singles.filter(|w| others.len() == 1 && w.kind == others[0]))
+                .filter(|w| holds_others(w))
+                .chain([self.baseline])
+                .min_by(|a, b| a.cost.total_cmp(&b.cost))
+                .unwrap_or(self.baseline);
+            let share =
+                if gain > 0.0 { ((less.cost - named.cost) / gain).clamp(0.0, 1.0) } else { 0.0 };
+            NamedShare { effect, share, rms_without_px: less.rms_px() }
+        };
+        kinds.iter().map(|&k| share_of(k)).collect()
     }
 
     /// The best pair fitted.
@@ -121,14 +181,15 @@ impl Selection<'_> {
     /// fit can end in a side valley the pair's extra number lets the least squares leave); that
     /// effect alone where it does; else the pair as the better partial answer where it removes
     /// at least half of what the best single one leaves beyond the noise.
-    /// Returns the finding and the model that stands for it (`None`: the baseline).
+    /// Returns the finding, the model that stands for it (`None`: the baseline) and, where that
+    /// is a larger model, it fitted without each of its effects.
     fn name(
         &self,
         mut finding: Finding,
         chosen: &WholeFit,
         best_pair: Option<&WholeFit>,
         ranked: &mut [(Candidate, Option<&WholeFit>)],
-    ) -> Result<(Finding, Option<WholeFit>), DiagnoseError> {
+    ) -> Result<Named, DiagnoseError> {
         let noise_px = self.noise_px;
         let none_score = self.score(self.baseline);
         let pair_wins = best_pair.is_some_and(|p| {
@@ -142,7 +203,7 @@ impl Selection<'_> {
         let alone_enough = best_alone.zip(best_pair).is_some_and(|(a, p)| !self.worth(p, a));
         if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
             let named = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
-            return Ok((Finding::Named(named), Some(p.clone())));
+            return Ok((Finding::Named(named), Some(p.clone()), alone));
         }
         if let Some(a) = best_alone.filter(|a| {
             alone_enough
@@ -154,7 +215,7 @@ impl Selection<'_> {
                 (c.rms_px, c.score, c.delta_score, c.strength) =
                     (a.rms_px(), self.score(a), self.score(a) - none_score, a.strength);
             }
-            return Ok((Finding::Named(vec![a.kind]), Some(a.clone())));
+            return Ok((Finding::Named(vec![a.kind]), Some(a.clone()), Vec::new()));
         }
         if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
             let share = explained_share(self.baseline.rms_px(), p.rms_px(), noise_px);
@@ -169,7 +230,8 @@ impl Selection<'_> {
                 });
             }
         }
-        Ok((finding, (!std::ptr::eq(chosen, self.baseline)).then(|| chosen.clone())))
+        let model = (!std::ptr::eq(chosen, self.baseline)).then(|| chosen.clone());
+        Ok((finding, model, Vec::new()))
     }
 
     /// The pairs tried, as the diagnosis reports them, best first.
