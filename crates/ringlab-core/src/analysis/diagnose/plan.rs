@@ -120,14 +120,15 @@ pub(super) const PLAN: &[Pass] = &[
     },
 ];
 
+/// When a pass runs and what it does, on the work `W` of its phase.
+pub(super) type WhenDoes<W> = (fn(&W) -> bool, fn(&mut W) -> Result<(), DiagnoseError>);
+
 /// What a phase's passes work on.
 pub(super) trait Work: Sized {
-    /// The phase's name on the progress bar.
+    /// The phase, for the progress bar.
     const PHASE: Phase;
     /// The pass's step where it is of this phase.
-    #[allow(clippy::type_complexity)]
-    fn step(step: &Step)
-    -> Option<(fn(&Self) -> bool, fn(&mut Self) -> Result<(), DiagnoseError>)>;
+    fn step(step: &Step) -> Option<WhenDoes<Self>>;
     /// Every model the phase has fitted so far.
     fn fitted(&self) -> Vec<&WholeFit>;
     fn noise_px(&self) -> f64;
@@ -161,9 +162,7 @@ pub(super) fn run<W: Work>(w: &mut W) -> Result<(), DiagnoseError> {
 
 impl Work for Singles<'_> {
     const PHASE: Phase = Phase::Singles;
-    fn step(
-        step: &Step,
-    ) -> Option<(fn(&Self) -> bool, fn(&mut Self) -> Result<(), DiagnoseError>)> {
+    fn step(step: &Step) -> Option<WhenDoes<Self>> {
         match step {
             Step::Singles { when, does } => Some((*when, *does)),
             Step::Selection { .. } => None,
@@ -182,9 +181,7 @@ impl Work for Singles<'_> {
 
 impl Work for Choosing<'_> {
     const PHASE: Phase = Phase::Selection;
-    fn step(
-        step: &Step,
-    ) -> Option<(fn(&Self) -> bool, fn(&mut Self) -> Result<(), DiagnoseError>)> {
+    fn step(step: &Step) -> Option<WhenDoes<Self>> {
         match step {
             Step::Selection { when, does } => Some((*when, *does)),
             Step::Singles { .. } => None,
@@ -198,5 +195,22 @@ impl Work for Choosing<'_> {
     }
     fn progress(&self) -> &Reporter<'_> {
         self.sel.progress
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_pass_has_its_own_name_and_the_singles_come_first() {
+        let names: std::collections::BTreeSet<&str> = PLAN.iter().map(|p| p.name).collect();
+        assert_eq!(names.len(), PLAN.len(), "two passes of one name");
+        assert!(PLAN.iter().all(|p| p.weight > 0.0 && !p.name.is_empty()));
+        let singles = |p: &Pass| matches!(p.step, Step::Singles { .. });
+        let first_selection = PLAN.iter().position(|p| !singles(p)).unwrap_or(PLAN.len());
+        assert!(PLAN[first_selection..].iter().all(|p| !singles(p)), "phases interleaved");
+        // The bar's stretch of each phase is shared out whole.
+        assert!(first_selection > 0 && first_selection < PLAN.len());
     }
 }
