@@ -1,10 +1,13 @@
-//! Fits made again from where a first walk ended: a side valley left by walking once more.
+//! Fits made again from where a first walk ended: a side valley left by walking once more,
+//! and the passes of the plan's singles phase ([`Singles`], `plan.rs`).
 
-use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, with_slip_start};
+use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, with_contact_start};
 use super::in_order::in_order_until;
 use super::options::DiagnoseError;
-use super::rules::{CONSISTENT_RATIO, MIN_EXPLAINED, explained_share, settled};
+use super::progress::Reporter;
+use super::rules::{MIN_EXPLAINED, Reach, explained_share};
 use super::seen_camera::FoundCamera;
+use super::select::{rank, through_seen_kinds};
 use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
@@ -18,14 +21,13 @@ use web_time::Instant;
 /// A camera candidate that improved on the baseline but still misses beyond the noise is
 /// fitted again from a multiple-shooting fit made with the camera it found. The baseline's
 /// segments were fitted through the wrong camera, and its drag and states carry that into every
-/// stage of the path: a pinhole 373 mm away, tilted 6.5 degrees, was left at 5.0 px this way,
-/// even from the true camera, and reached the noise (0.502 px, the distance and tilt to 0.02%)
-/// from segments fitted through the camera of that first pass. The camera does not change the
-/// motion, so the second multiple-shooting fit sees the motion as it was. Only for a camera
-/// candidate that leads the candidates or explains at least [`MIN_EXPLAINED`] of the baseline's
-/// excess: one that explains less imitates a little of another effect (with physics the
-/// candidates lack, every recording has one), and its pass, a multiple-shooting fit and a
-/// whole path, bought nothing there (docs/diagnosis.md).
+/// stage of the path, so that even from the true camera the path can stay far from the noise;
+/// the camera does not change the motion, so segments fitted through the camera of that first
+/// pass see the motion as it was. Only for a camera candidate that leads the candidates or
+/// explains at least [`MIN_EXPLAINED`] of the baseline's excess: one that explains less
+/// imitates a little of another effect (with physics the candidates lack, every recording has
+/// one), and its pass, a multiple-shooting fit and a whole path, buys nothing there
+/// (docs/diagnosis.md).
 pub(super) fn camera_second_pass(
     again: &Again,
     ms: &Shooting,
@@ -41,7 +43,7 @@ pub(super) fn camera_second_pass(
         .fold(f64::INFINITY, f64::min);
     for (kind, r) in fits.iter_mut().filter(|(k, _)| k.is_camera()) {
         let Ok(first) = r.as_ref() else { continue };
-        if first.cost >= baseline.cost || first.rms_px() <= CONSISTENT_RATIO * noise_px {
+        if first.cost >= baseline.cost || Reach::Consistent.by(first.rms_px(), noise_px) {
             continue;
         }
         if first.cost > best_cost
@@ -72,12 +74,10 @@ pub(super) fn camera_second_pass(
 
 /// The best pair by score walked down its path again ([`walk_again`]): its first walk began
 /// at the baseline's drag, and with two strengths free it often ends in a side valley that no
-/// polishing of the last stage leaves (Reynolds drag with pivot friction: 0.91 px, unchanged
-/// after four more rounds of the last stage; walked again, 0.57 px). Walked again up to
-/// [`PAIR_WALKS`] times while each walk cuts its misfit by a tenth or more and it still misses
-/// beyond the noise: a weak strength grows a little with each walk (translational drag beside
-/// a pinhole, 0.085 drawn: 3.83 px at 0.006 after the first walk, 0.73 px at 0.073 after the
-/// second). Not walked where it has settled the recording already ([`settled`]).
+/// polishing of the last stage leaves. Walked again up to [`PAIR_WALKS`] times while each walk
+/// cuts its misfit by a tenth or more and it still misses beyond the noise: a weak strength
+/// grows a little with each walk (docs/diagnosis.md). Not walked where it has settled the
+/// recording already.
 pub(super) fn walk_best_pair_again(
     again: &Again,
     ms: &Shooting,
@@ -87,13 +87,13 @@ pub(super) fn walk_best_pair_again(
     noise_px: f64,
 ) -> Result<(), DiagnoseError> {
     let Some(p) = best_pair(pairs, score) else { return Ok(()) };
-    if settled(p.rms_px(), noise_px) {
+    if Reach::Settled.by(p.rms_px(), noise_px) {
         return Ok(());
     }
     for _ in 0..PAIR_WALKS {
         let before = p.cost;
         walk_again(again, ms, levels, p)?;
-        if !(p.cost < 0.81 * before) || p.rms_px() <= CONSISTENT_RATIO * noise_px {
+        if !(p.cost < 0.81 * before) || Reach::Consistent.by(p.rms_px(), noise_px) {
             break;
         }
     }
@@ -116,8 +116,7 @@ pub(super) fn best_pair<'a>(
 
 /// The [`WALKED_AGAIN`] best physical candidates that improved on the baseline but still miss
 /// beyond the noise, each walked down its path again ([`walk_again`]), in parallel. A single
-/// effect's first walk, from the baseline's drag, can end in a side valley too (rolling
-/// friction alone at 1.70 px against 0.49 px of noise; walked again, 0.50 px), and then the
+/// effect's first walk, from the baseline's drag, can end in a side valley too, and then the
 /// pairs are fitted for nothing and its imitators rank beside it. One still beyond the noise
 /// that explains less than [`MIN_EXPLAINED`] of the baseline's excess is then refitted from the
 /// baseline's solution across its range ([`scan_from_baseline`]): the valley that scan leaves
@@ -138,12 +137,12 @@ pub(super) fn walk_best_singles_again(
         .collect();
     todo.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     todo.truncate(WALKED_AGAIN);
-    todo.retain(|w| w.rms_px() > CONSISTENT_RATIO * noise_px);
+    todo.retain(|w| !Reach::Consistent.by(w.rms_px(), noise_px));
     use rayon::prelude::*;
     todo.into_par_iter()
         .map(|w| {
             walk_again(again, ms, levels, w)?;
-            if w.rms_px() > CONSISTENT_RATIO * noise_px
+            if !Reach::Consistent.by(w.rms_px(), noise_px)
                 && explained_share(baseline.rms_px(), w.rms_px(), noise_px) < MIN_EXPLAINED
             {
                 scan_from_baseline(ms, baseline, w)?;
@@ -153,13 +152,12 @@ pub(super) fn walk_best_singles_again(
         .collect()
 }
 
-/// Fit `w` (a physical effect but slip) refitted over the whole run from the baseline's own
-/// solution at each of [`scan_strengths`], kept where one ends better. Its walks begin at the
-/// strength that suits the baseline's segments best, and where those segments absorb the
-/// effect (a tracker's noise correlated in time lends them freedom) that can be near zero, a
-/// valley the walks do not leave: translational drag of 0.05 under noise correlated 0.6 frame
-/// to frame stayed at 0.004 and 2.03 px against the baseline's 2.04; refitted from 0.01, 0.032
-/// and 0.1 it ends at 1.75, 2.61 and 0.53 px (0.0485).
+/// Fit `w` (a physical effect, not a costly one) refitted over the whole run from the
+/// baseline's own solution at each of [`scan_strengths`], kept where one ends better. Its walks
+/// begin at the strength that suits the baseline's segments best, and where those segments
+/// absorb the effect (a tracker's noise correlated in time lends them freedom) that can be near
+/// zero, a valley the walks do not leave; from the ends and the middle of its range it reaches
+/// its own (docs/diagnosis.md, "A tracker's noise correlated in time").
 fn scan_from_baseline(
     ms: &Shooting,
     baseline: &WholeFit,
@@ -185,7 +183,7 @@ fn scan_from_baseline(
         return Ok(());
     };
     // Once more from where it ended: from so far up a valley's side one fit can run out of
-    // iterations on the way down (0.534 px after 20; 0.498 px after 10 more).
+    // iterations on the way down.
     match polish(ms, &best) {
         Ok(p) if p.cost < best.cost => best = p,
         Err(LmError::Cancelled) => return Err(DiagnoseError::Cancelled),
@@ -199,17 +197,17 @@ fn scan_from_baseline(
 fn polish(ms: &Shooting, w: &WholeFit) -> Result<WholeFit, LmError> {
     let kinds: Vec<EffectKind> = w.also.iter().map(|(k, _)| *k).chain([w.kind]).collect();
     let mut sh =
-        with_budget(with_effects(&with_slip_start(ms, w.model.effects.slip_start), &kinds));
+        with_budget(with_effects(&with_contact_start(ms, w.model.effects.slip_start), &kinds));
     sh.segments = vec![w.span.clone()];
     fit_whole(&sh, w.internal.clone(), &[w.start], &mut |_, _| {})
 }
 
 /// The strengths [`scan_from_baseline`] starts from: the ends and the middle (geometric) of
-/// the effect's realistic range; none for slip (its own starts cover its range, and its runs
-/// from the baseline's solution crawl) and the camera effects (fitted again through their
-/// camera instead).
+/// the effect's realistic range; none for a costly effect (its own starts cover its range, and
+/// its runs from the baseline's solution crawl), the camera effects (fitted again through their
+/// camera instead) and the baseline.
 fn scan_strengths(kind: EffectKind) -> Vec<f64> {
-    if kind == EffectKind::Slip || kind.is_camera() || kind == EffectKind::None {
+    if kind.in_plan().costly || kind.is_camera() || kind.is_baseline() {
         return Vec::new();
     }
     let (lo, hi) = kind.realistic_range();
@@ -249,7 +247,7 @@ pub(super) fn walk_again(
             (from, join.states.clone())
         }
     };
-    let sh = with_effects(&with_slip_start(&from, p.model.effects.slip_start), &kinds);
+    let sh = with_effects(&with_contact_start(&from, p.model.effects.slip_start), &kinds);
     match fit_whole(&sh, p.internal.clone(), &states, &mut |_, _| {}) {
         Ok(mut walked) if walked.cost < p.cost => {
             walked.seconds += p.seconds;
@@ -261,39 +259,33 @@ pub(super) fn walk_again(
     Ok(())
 }
 
-/// Slip beside the camera effects of `found` (the camera the segments see, or that of a
-/// camera candidate that leads, or of a pair of slip with a camera that still misses), found
-/// through that camera. Through the camera the baseline assumed, slip alone does not even
-/// reach the baseline: the camera's error fills the first stage's segments and their least
-/// squares drive `mu` up until nothing slides (a sliding ring filmed from 500 mm: slip alone
-/// 15.7 px against the baseline's 12.7), so the forward selection, which pairs slip only where
-/// it improved alone, never tries it; and a pair of slip with the pinhole walked from the
-/// baseline's path can end at four times the noise. Even a camera confused by the slides,
-/// 311 mm for 500, lets slip reach 1.8 px ([`effects_through_camera`]).
-pub(super) fn slip_through_camera(
+/// `kind` beside the camera effects of `found` (the camera the segments see, or that of a
+/// camera candidate that leads, or of a pair that still misses), found through that camera
+/// ([`effects_through_camera`]). Through the camera the baseline assumed, a costly effect alone
+/// may not even reach the baseline (the camera's error fills its first stage's segments), so
+/// the forward selection, which pairs it only where it improved alone, would never try it.
+pub(super) fn effect_through_camera(
     again: &Again,
     ms: &Shooting,
     found: &FoundCamera,
+    kind: EffectKind,
     noise_px: f64,
 ) -> Result<Option<WholeFit>, DiagnoseError> {
-    let fits = effects_through_camera(again, ms, found, &[EffectKind::Slip], noise_px)?;
+    let fits = effects_through_camera(again, ms, found, &[kind], noise_px)?;
     Ok(fits.into_iter().next())
 }
 
 /// Each effect of `asked` beside the camera effects of `found`, found through that camera:
 /// the multiple-shooting fit and the baseline's path are made again through the camera found,
 /// each effect is fitted on that path as a candidate is, and then the camera is set free
-/// beside it for the last stage; `EffectKind::None` among them gives the camera alone
-/// fitted that way. A pair walked from the baseline's path starts from segments fitted
-/// through the wrong camera and can stay in the camera's valley with the physical effect at
-/// zero (a pinhole 640 mm away beside translational drag: the pinhole alone fits as 805 mm and
-/// 1.71 px, the pair with the drag stays there; through the 805 mm camera the drag alone
-/// reaches 0.70 px). The other camera effect too: a pinhole 346 mm away found through a lens
-/// it does not know leaves 1.77 px, and the pair walked from the baseline's path 5.4 px.
+/// beside it for the last stage; the baseline among them gives the camera alone fitted that
+/// way. A pair walked from the baseline's path starts from segments fitted through the wrong
+/// camera and can stay in the camera's valley with the other effect at zero; the other camera
+/// effect too is fitted this way (a real camera has both).
 ///
 /// `asked` go most promising first, and those after the first that settles the recording
-/// ([`settled`] against `noise_px`) are not fitted: nothing can then be told better. A fit
-/// made before through the same camera (`again` keeps them) is not made again.
+/// are not fitted: nothing can then be told better. A fit made before through the same camera
+/// (`again` keeps them) is not made again.
 pub(super) fn effects_through_camera(
     again: &Again,
     ms: &Shooting,
@@ -303,7 +295,7 @@ pub(super) fn effects_through_camera(
 ) -> Result<Vec<WholeFit>, DiagnoseError> {
     let cameras = &found.numbers;
     // Every effect asked for that the camera does not already hold (the other camera effect
-    // too: a real camera is a pinhole with a lens).
+    // too: a real camera has both).
     let mut kinds: Vec<EffectKind> = Vec::new();
     for &k in asked {
         if !cameras.iter().any(|(c, _)| *c == k) && !kinds.contains(&k) {
@@ -313,7 +305,7 @@ pub(super) fn effects_through_camera(
     if cameras.is_empty() || kinds.is_empty() {
         return Ok(Vec::new());
     }
-    let settles = |w: &WholeFit| settled(w.rms_px(), noise_px);
+    let settles = |w: &WholeFit| Reach::Settled.by(w.rms_px(), noise_px);
     if let Some(i) =
         kinds.iter().position(|&k| again.made(found, k).flatten().is_some_and(|w| settles(&w)))
     {
@@ -365,16 +357,15 @@ fn fit_through_camera(
     let one = |&kind: &EffectKind, stop: &AtomicBool| -> Result<WholeFit, LmError> {
         let own = Instant::now();
         let (through, ms) = (through.stopped_by(stop), ms.stopped_by(stop));
-        let alone = if kind == EffectKind::None {
+        let alone = if kind.is_baseline() {
             baseline.clone()
         } else {
             fit_candidate(&through, &levels, &baseline, kind, &mut |_, _| {})?
         };
-        // Slip that left the baseline's valley even through this camera (its path stopped
-        // beyond the ceiling) slides where the recording rolls, or the other way; the camera's
-        // numbers move no slide, and its runs cost most (a lens beside slip at 257 px: 8.5 s
-        // more to reach 219 px).
-        if kind == EffectKind::Slip && alone.stopped_at.is_some() {
+        // A costly effect that left the baseline's valley even through this camera (its path
+        // stopped beyond the ceiling) is far from the recording (a slide where it rolls); the
+        // camera's numbers cannot bring it back, and its runs cost most.
+        if kind.in_plan().costly && alone.stopped_at.is_some() {
             return Err(LmError::BadStart);
         }
         // The pair's numbers: the drag and body of the effect's fit, the camera's, the effect's.
@@ -388,7 +379,7 @@ fn fit_through_camera(
         global.extend_from_slice(&alone.internal[shared..]);
         order.push(kind);
         let start = alone.model.effects.slip_start;
-        let mut sh = with_budget(with_effects(&with_slip_start(&ms, start), &order));
+        let mut sh = with_budget(with_effects(&with_contact_start(&ms, start), &order));
         sh.segments = vec![alone.span.clone()];
         let mut pair = fit_whole(&sh, global, &[alone.start], &mut |_, _| {})?;
         pair.seconds = shared_seconds + own.elapsed().as_secs_f64();
@@ -445,4 +436,57 @@ fn through_camera_of(camera: &Camera, fit_opts: &FitOptions) -> FitOptions {
         camera_tilt_deg: Some(camera.tilt_rad.to_degrees()),
         ..fit_opts.clone()
     }
+}
+
+/// Candidate fits, each effect in turn.
+pub(super) type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
+
+/// What the plan's singles phase works on: the single candidates fitted along the baseline's
+/// path, fitted again where none has settled the recording (`plan.rs`).
+pub(super) struct Singles<'a> {
+    pub(super) again: &'a Again<'a>,
+    pub(super) ms: &'a Shooting<'a>,
+    pub(super) levels: &'a [Level],
+    pub(super) baseline: &'a WholeFit,
+    pub(super) fits: Fits,
+    /// The fits through the camera the segments see (kept in `again` for the selection too).
+    pub(super) through_seen: Vec<WholeFit>,
+    pub(super) noise_px: f64,
+    /// The noise's dependence from frame to frame, for the ranking.
+    pub(super) dependence: f64,
+    pub(super) progress: &'a Reporter<'a>,
+}
+
+/// A pass that runs wherever nothing has settled the recording.
+pub(super) fn always(_: &Singles) -> bool {
+    true
+}
+
+/// Whether the segments see a camera.
+pub(super) fn camera_seen(w: &Singles) -> bool {
+    w.again.seen.is_some()
+}
+
+/// The camera candidates fitted again through the camera each found ([`camera_second_pass`]).
+pub(super) fn cameras_second_pass(w: &mut Singles) -> Result<(), DiagnoseError> {
+    camera_second_pass(w.again, w.ms, w.baseline, &mut w.fits, w.noise_px)
+}
+
+/// Every effect through the camera the segments see (the camera alone too), in the order the
+/// selection will ask for them (`select.rs::through_seen_kinds`), until one settles the
+/// recording; where one does, the physical candidates need no second walk (on a camera's
+/// recordings those walks were of effects the camera imitated). Kept for the selection.
+pub(super) fn through_seen_camera(w: &mut Singles) -> Result<(), DiagnoseError> {
+    let Some(seen) = w.again.seen else { return Ok(()) };
+    let ranked = rank(w.baseline, &w.fits, w.dependence);
+    let kinds: Vec<EffectKind> =
+        [EffectKind::BASELINE].into_iter().chain(through_seen_kinds(&ranked)).collect();
+    let through = effects_through_camera(w.again, w.ms, seen, &kinds, w.noise_px)?;
+    w.through_seen = through;
+    Ok(())
+}
+
+/// The best physical candidates walked again ([`walk_best_singles_again`]).
+pub(super) fn walk_singles_again(w: &mut Singles) -> Result<(), DiagnoseError> {
+    walk_best_singles_again(w.again, w.ms, w.levels, w.baseline, &mut w.fits, w.noise_px)
 }

@@ -11,9 +11,10 @@
 //! side valley: the baseline is refitted from the best candidate's drag and start, so that
 //! "before" is the baseline at its best and not one that stopped early; and a candidate nests
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
-//! baseline is refitted from the baseline's solution. Slip nests it only where the rolling run
-//! never needs more friction than `mu` allows; where its run from the baseline's solution
-//! starts above the path's ceiling, its path ends at its first stage instead.
+//! baseline is refitted from the baseline's solution. An effect without a baseline strength
+//! (its descriptor's `baseline` is None) nests it only in the limit; where its run from the
+//! baseline's solution starts above the path's ceiling, its path ends at its first stage
+//! instead.
 
 use super::result::{STAGE_CEILING, extras_of};
 use super::whole::{
@@ -29,8 +30,8 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Strengths tried first for `kind` (its descriptor's scan: nine log-spaced values from half
-/// the realistic range's low end to twice its high end for most; both signs for the lens, whose
-/// realistic range is barrel only; slip up to just below the Painleve limit `mu_max`). Not
+/// the realistic range's low end to twice its high end for most; the descriptor says where
+/// another scan is needed, and `mu_max`, the contact's Painleve limit, bounds one). Not
 /// zero: the baseline's drag and states absorb what they can of an effect, so at them no effect
 /// always looks best.
 pub fn trial_strengths(kind: EffectKind, mu_max: f64) -> Vec<f64> {
@@ -59,10 +60,10 @@ pub fn trial_starts(kind: EffectKind, mu_max: f64) -> Vec<Vec<f64>> {
 }
 
 /// The strength at which a candidate starts from the baseline's own solution: the baseline
-/// itself (zero; slip: the largest `mu` allowed, closest to pure rolling). Not a small
-/// strength: over a whole run the misfit is so sensitive that even a tenth of a realistic
-/// strength lands far up the valley's side (Reynolds drag: n = 0.025 raises a noise-level
-/// misfit 7000-fold, and the least squares then crawl back).
+/// itself (its descriptor's baseline strength; where it has none, just below the contact's
+/// limit `mu_max`, the nearest to the baseline). Not a small strength: over a whole run the
+/// misfit is so sensitive that even a tenth of a realistic strength lands far up the valley's
+/// side, and the least squares then crawl back.
 pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
     match kind.baseline_strength() {
         Some(s) => s,
@@ -71,16 +72,15 @@ pub fn near_baseline_strength(kind: EffectKind, mu_max: f64) -> f64 {
 }
 
 /// More starts for an effect the strength scan cannot see, tried beside the scan's pick (its
-/// descriptor's `blind`: slip's, where the scan holds the baseline's segment states, which
-/// absorb a slide's drift). The first stage goes on from the start that ends lowest.
+/// descriptor's `blind`: where the scan holds the baseline's segment states, which absorb
+/// what the effect does). The first stage goes on from the start that ends lowest.
 pub fn blind_starts(kind: EffectKind, mu_max: f64, start: SlipStart) -> Vec<f64> {
     let d = kind.descriptor();
     (d.blind)(d.realistic, mu_max, start == SlipStart::HeldRolling)
 }
 
 /// The effect's free numbers at `strength`, its extras where their descriptor starts them (the
-/// camera's tilt level, the Reynolds number from the centre's speed, as the paper has it, slip
-/// with no slide in progress at the start).
+/// paper's law where an extra shapes it, nothing in progress at the start).
 pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
     if kind.free_count() == 0 {
         return Vec::new();
@@ -88,7 +88,8 @@ pub fn effect_start(kind: EffectKind, strength: f64) -> Vec<f64> {
     std::iter::once(strength).chain(kind.descriptor().extras.iter().map(|x| x.start)).collect()
 }
 
-/// The largest `mu` the sliding contact allows for this body (`slip.rs`).
+/// The largest friction coefficient the sliding contact allows for this body (the Painleve
+/// limit).
 pub fn mu_limit(sh: &Shooting) -> f64 {
     painleve_mu_limit(&sh.spec.base)
 }
@@ -116,15 +117,15 @@ pub fn fit_candidate(
             .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
     };
     let mu_max = mu_limit(ms);
-    // Slip's first stage once for each way its run can begin ([`SlipStart`]); the path goes on
+    // A first stage for each way the effect's run can begin ([`SlipStart`]); the path goes on
     // with the better. Only the first segment differs, and there the two part at once (a
     // held start rolls for seconds where the other slides).
     let stage = |start: SlipStart, on_iteration: &mut dyn FnMut(usize, f64)| {
-        let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
+        let mut sh = with_budget(with_effect(&with_contact_start(ms, start), kind));
         sh.segments = join.segments.clone();
         first_stage(&sh, join, kind, mu_max, on_iteration).map(|sol| (sol, sh))
     };
-    let first = if kind == EffectKind::Slip {
+    let first = if kind.in_plan().two_starts {
         // The held start on another thread while this one reports the cone start's progress.
         let mut held = None;
         let cone = rayon::in_place_scope(|s| {
@@ -142,8 +143,8 @@ pub fn fit_candidate(
     let segments = sh.segments.len();
     let mut fit = if segments > 1 && first.cost > baseline.cost {
         let strength = near_baseline_strength(kind, mu_max);
-        // Slip nests the baseline only where the baseline's run never needs more friction
-        // than `mu` allows; where it does, its run from the baseline's solution starts far
+        // An effect without a baseline strength nests the baseline only where the baseline's
+        // run never needs what the effect forbids; where it does, its run from the baseline's solution starts far
         // above the ceiling, and a single-shooting fit from there walks blind for seconds to
         // a misfit hundreds of noise levels up: the path ends at its first stage instead.
         if first.cost > ceiling(segments)
@@ -219,8 +220,8 @@ fn first_stage(
 }
 
 /// Integration steps a candidate's fit may spend per frame of the recording (see
-/// [`WorkBudget`]). Rolling candidates spend 600 to 1,900 on the concealed recordings, slip
-/// about 3,000; without a cap one trial step into a crawling corner ran for minutes.
+/// [`WorkBudget`]): without a cap one trial step into a crawling corner ran for minutes
+/// (docs/diagnosis-history.md has what the candidates spend).
 pub const CANDIDATE_STEPS_PER_FRAME: u64 = 6_000;
 
 /// `sh` with a budget of its own for one candidate's fit.
@@ -239,7 +240,7 @@ fn single_segment<'a>(
     strength: f64,
 ) -> (Shooting<'a>, Vec<f64>) {
     let start = from.model.effects.slip_start;
-    let mut sh = with_budget(with_effect(&with_slip_start(ms, start), kind));
+    let mut sh = with_budget(with_effect(&with_contact_start(ms, start), kind));
     sh.segments = vec![from.span.clone()];
     let own = from.internal.len()
         - from.kind.free_count()
@@ -281,7 +282,7 @@ pub fn refit_without(
         at += n;
     }
     let start = from.model.effects.slip_start;
-    let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &keep));
+    let mut sh = with_budget(with_effects(&with_contact_start(ms, start), &keep));
     sh.segments = vec![from.span.clone()];
     fit_whole(&sh, global, &[from.start], &mut |_, _| {})
 }
@@ -289,8 +290,7 @@ pub fn refit_without(
 /// Fit `from` over the whole run as one segment with `add` beside its effects, from its drag,
 /// body, start state and numbers and `add` at `strength`: the larger model starts where the
 /// one it nests ended, so it can only fit better (a pair walked from the baseline's path can
-/// end worse than its better effect alone: Reynolds drag with pivot friction at 2.37 px where
-/// Reynolds drag alone reaches 1.42).
+/// end worse than its better effect alone).
 pub fn refit_with(
     ms: &Shooting,
     from: &WholeFit,
@@ -302,7 +302,7 @@ pub fn refit_with(
     let mut global = from.internal.clone();
     global.extend(effect_start(add, strength));
     let start = from.model.effects.slip_start;
-    let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &kinds));
+    let mut sh = with_budget(with_effects(&with_contact_start(ms, start), &kinds));
     sh.segments = vec![from.span.clone()];
     fit_whole(&sh, global, &[from.start], &mut |_, _| {})
 }
@@ -319,7 +319,7 @@ pub fn fit_baseline(
     states: &[StateVec],
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<(WholeFit, Vec<Level>), LmError> {
-    let sh = with_effect(ms, EffectKind::None);
+    let sh = with_effect(ms, EffectKind::BASELINE);
     let g = sh.spec.to_internal(&sh.spec.initial_values());
     fit_path(&sh, g, states, &no_ceiling, on_iteration)
 }
@@ -336,9 +336,8 @@ pub fn fit_candidates(
     done: &(dyn Fn(EffectKind) + Sync),
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), LmError> {
     // The slowest first (sliding runs cost most), so that it does not finish alone.
-    let mut order: Vec<EffectKind> =
-        kinds.iter().copied().filter(|&k| k != EffectKind::None).collect();
-    order.sort_by_key(|&k| k != EffectKind::Slip);
+    let mut order: Vec<EffectKind> = kinds.iter().copied().filter(|&k| !k.is_baseline()).collect();
+    order.sort_by_key(|&k| !k.in_plan().costly);
     let mut candidates: Vec<(EffectKind, Result<WholeFit, LmError>)> = order
         .par_iter()
         .map(|&k| {
@@ -361,14 +360,14 @@ pub fn fit_candidates(
     if let Some(best) = best
         && best.cost < baseline.cost
     {
-        let again = refit_from(ms, EffectKind::None, best, 0.0)?;
+        let again = refit_from(ms, EffectKind::BASELINE, best, 0.0)?;
         if again.cost < baseline.cost {
             baseline = again;
         }
     }
     // A candidate that ended worse than the model it contains: again from the baseline. Not
-    // where that start misses by more than the candidate's own end: slip never quite is the
-    // baseline (even at `mu_max` it slides at the launch and where the ring lifts off), so at
+    // where that start misses by more than the candidate's own end: an effect without a
+    // baseline strength never quite is the baseline, so at
     // the baseline's solution it can miss by thousands of times more, and the refit crawled
     // for 12 s from there to end worse than before (a concealed air drag on the travel).
     let mu_max = mu_limit(ms);
@@ -397,8 +396,9 @@ pub fn fit_candidates(
     Ok((baseline, candidates))
 }
 
-/// `ms` with runs that begin as `start` says (slip only; the other effects ignore it).
-pub fn with_slip_start<'a>(ms: &Shooting<'a>, start: SlipStart) -> Shooting<'a> {
+/// `ms` with runs whose contact begins as `start` says (an effect with two starts only; the
+/// others ignore it).
+pub fn with_contact_start<'a>(ms: &Shooting<'a>, start: SlipStart) -> Shooting<'a> {
     let mut sh = ms.clone();
     sh.spec.base.effects.slip_start = start;
     sh
@@ -410,11 +410,11 @@ pub fn with_slip_start<'a>(ms: &Shooting<'a>, start: SlipStart) -> Shooting<'a> 
 /// and `second` at the best of its alone-fitted strength and its trial strengths, down to one
 /// segment. A stage that fits [`STAGE_CEILING`] times worse than the baseline's ends the path.
 ///
-/// Where `first` is Reynolds drag whose law fitted alone left the paper's (a rim share above
-/// zero), the pair is also walked the other way round, `second` leading and the drag from its
-/// trial exponents at the paper's law, and the better kept: alone, that shape can imitate part
-/// of the second effect, a valley the pair does not leave (Reynolds drag beside pivot friction:
-/// the share 0.8 alone, 3.3 px, and the pair from there 4.6 px).
+/// Where `first` has an extra that shapes its law (its descriptor's `InPlan::shape`) and fitted
+/// it alone away from the paper's law, the pair is also walked the other way round, `second`
+/// leading and `first` from its trial starts at the paper's law, and the better kept: alone,
+/// that shape can imitate part of the second effect, a valley the pair does not leave
+/// (docs/diagnosis.md has the case).
 pub fn fit_pair(
     ms: &Shooting,
     levels: &[Level],
@@ -423,9 +423,7 @@ pub fn fit_pair(
     on_iteration: &mut dyn FnMut(usize, f64),
 ) -> Result<WholeFit, LmError> {
     let clock = web_time::Instant::now();
-    let shaped = extras_of(&first_fit.extras, EffectKind::ReynoldsDrag)
-        .first()
-        .is_some_and(|(share, _)| *share != 0.0);
+    let shaped = shaped(first_fit);
     let mut fit = pair_path(ms, levels, first_fit, second_fit, on_iteration);
     if shaped {
         let other = pair_path(ms, levels, second_fit, first_fit, &mut |_, _| {});
@@ -459,9 +457,9 @@ fn pair_path(
             .map_or(f64::INFINITY, |l| STAGE_CEILING * l.cost)
     };
     let mu_max = mu_limit(ms);
-    let slip = [lead_fit, other_fit].into_iter().find(|w| w.kind == EffectKind::Slip);
-    let start = slip.map_or(SlipStart::Cone, |w| w.model.effects.slip_start);
-    let mut sh = with_budget(with_effects(&with_slip_start(ms, start), &[first, second]));
+    let two = [lead_fit, other_fit].into_iter().find(|w| w.kind.in_plan().two_starts);
+    let start = two.map_or(SlipStart::Cone, |w| w.model.effects.slip_start);
+    let mut sh = with_budget(with_effects(&with_contact_start(ms, start), &[first, second]));
     sh.segments = join.segments.clone();
     let own = |w: &WholeFit| w.internal[w.internal.len() - w.kind.free_count()..].to_vec();
     let lead = own(lead_fit);
@@ -476,4 +474,14 @@ fn pair_path(
         .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
         .ok_or(LmError::BadStart)?;
     Ok(fit_path(&sh, globals[best].clone(), &join.states, &ceiling, on_iteration)?.0)
+}
+
+/// Whether fit `w` holds its effect's shaping extra (`InPlan::shape`) away from where a fit
+/// starts it (the paper's law).
+fn shaped(w: &WholeFit) -> bool {
+    let d = w.kind.descriptor();
+    d.plan.shape.is_some_and(|i| {
+        let start = d.extras.get(i).map_or(0.0, |x| x.start);
+        extras_of(&w.extras, w.kind).get(i).is_some_and(|(v, _)| *v != start)
+    })
 }

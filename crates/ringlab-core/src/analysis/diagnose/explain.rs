@@ -288,6 +288,7 @@ fn named_words(d: &Diagnosis, named: &[EffectKind], words: &Common) -> String {
             let _ = write!(out, " Its BIC is {delta:.1} against the baseline.");
         }
     }
+    out.push_str(&share_words(d));
     let _ = write!(out, " {where_} {}", signature_words(kind, d));
     if d.after.rms_px > CONSISTENT_RATIO * d.noise_px {
         let _ = write!(
@@ -298,6 +299,25 @@ fn named_words(d: &Diagnosis, named: &[EffectKind], words: &Common) -> String {
     }
     let _ = write!(out, " Fitted with it: {}.{}", fitted(&d.after), body_words(d));
     out
+}
+
+/// Each named effect's share of the improvement, in words, where more than one is named (one
+/// alone has all of it).
+fn share_words(d: &Diagnosis) -> String {
+    if d.shares.len() < 2 {
+        return String::new();
+    }
+    let each: Vec<String> = d
+        .shares
+        .iter()
+        .map(|s| {
+            format!("{} {:.1}% ({:.3} px without it)", s.effect, 100.0 * s.share, s.rms_without_px)
+        })
+        .collect();
+    format!(
+        " Each effect's share of the improvement on the baseline, the part of it that comes back without that effect: {}; each is worth its numbers against the model without it, on the residuals that count as independent (their correlation in time counted).",
+        each.join(", ")
+    )
 }
 
 /// Where and how the baseline's residual departs, in words, for a finding no candidate names.

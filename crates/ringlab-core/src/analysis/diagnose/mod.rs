@@ -9,7 +9,9 @@
 //! reached by a path from the multiple-shooting fit, its segments merged pairwise until one is
 //! left ([`whole`], [`candidates`]). The criterion is BIC, and an effect is named only where it
 //! also explains most of the misfit beyond the noise ([`rules`]); where one effect is not
-//! enough, pairs ([`select`]). Where the baseline departs is found apart from the score
+//! enough, pairs ([`select`]). The passes that fit the candidates again and the larger models
+//! are one list, the plan (`plan.rs`), run by one loop. Where the baseline departs is found
+//! apart from the score
 //! ([`departure`]); what tells the effects apart is measured ([`signature`]) and put in words
 //! with each effect's own ([`explain`]).
 //!
@@ -26,6 +28,8 @@ pub mod explain;
 mod in_order;
 pub mod noise_correlation;
 mod options;
+mod pairs;
+mod plan;
 mod progress;
 pub mod residual;
 mod result;
@@ -41,7 +45,7 @@ pub use options::{
     DiagnoseStage, SLIP_TOLERANCES,
 };
 pub use result::{
-    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, Partial,
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, NamedShare, PairCandidate, Partial,
     ResidualSeries, Signature, Trace,
 };
 pub use rules::{

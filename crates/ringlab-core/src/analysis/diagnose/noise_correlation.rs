@@ -153,6 +153,30 @@ pub fn measure(
         .then_some(NoiseCorrelation { long_lag_stat, ..noise })
 }
 
+/// Lags over which [`residual_dependence`] sums the correlation at most: a block's frames.
+pub const MAX_DEPENDENCE_LAGS: usize = BLOCK_FRAMES;
+
+/// How many coordinates of the residual of the whole-run prediction `pred` (frames from
+/// `start`) count as one independent one for a fitted number: `1 + 2 sum rho` over the lags up
+/// to the first where the correlation has died out (below [`DECAYED`]; at most
+/// [`MAX_DEPENDENCE_LAGS`]), and at least 1. Where the model is right that is the noise's own
+/// dependence, whether or not [`measure`] takes it for a tracker's; where the model misses, the
+/// missing motion's correlation counts too. Either way a number that takes up a little of such
+/// a residual is worth no more than it would be on that many fewer independent residuals.
+pub fn residual_dependence(observed: &[FrameMarks], start: usize, pred: &PredictedMarks) -> f64 {
+    let res = residuals(observed, start, pred);
+    let sum_until_decayed = |lags: usize| {
+        let rho = correlations(&lag_products(&res, lags));
+        let sum: f64 = rho.iter().skip(1).take_while(|r| **r >= DECAYED).sum();
+        let decayed = rho.iter().skip(1).any(|r| *r < DECAYED);
+        (sum, decayed)
+    };
+    // Most residuals decay within a tracker's range; only those that do not pay for every lag.
+    let (sum, decayed) = sum_until_decayed(MAX_RANGE_FRAMES + 1);
+    let sum = if decayed { sum } else { sum_until_decayed(MAX_DEPENDENCE_LAGS + 1).0 };
+    (1.0 + 2.0 * sum).max(1.0)
+}
+
 /// The mean over blocks of [`BLOCK_FRAMES`] and lags `range..range + LONG_LAGS` of
 /// `count rho_block(k)^2 / spread`: about 1 where the correlation has died out by `range`.
 fn long_lag_stat(res: &[FrameMarks], range: usize, spread: f64) -> f64 {
@@ -252,6 +276,23 @@ mod tests {
         // Correlated noise beside such an error: still refused (the level stays the tracks').
         let (obs, pred) = recording(2000, 0.6, &drifting, 6);
         assert_eq!(measure(&obs, 0, &pred, &reading(0.258)), None);
+    }
+
+    #[test]
+    fn the_residuals_dependence_counts_whatever_is_correlated() {
+        let white = recording(2000, 0.0, &|_| 0.0, 8);
+        assert!(residual_dependence(&white.0, 0, &white.1) < 1.2);
+        // AR(1) 0.6 summed to where it dies out (0.6^6 < 0.05): 1 + 2 (0.6 + ... + 0.6^5).
+        let ar = recording(2000, 0.6, &|_| 0.0, 9);
+        let d = residual_dependence(&ar.0, 0, &ar.1);
+        assert!((d - 3.8).abs() < 0.5, "{d}");
+        // Correlated far beyond a tracker's range (AR(1) 0.97, which `measure` refuses): counted.
+        let long = recording(3000, 0.97, &|_| 0.0, 10);
+        let d = residual_dependence(&long.0, 0, &long.1);
+        assert!(d > 25.0, "{d}");
+        // A model that misses by a slow drift: its residual counts as few independent ones.
+        let drift = recording(2000, 0.0, &|t| 0.6 * (t as f64 / 300.0).sin(), 11);
+        assert!(residual_dependence(&drift.0, 0, &drift.1) > 20.0);
     }
 
     #[test]

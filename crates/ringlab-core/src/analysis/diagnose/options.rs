@@ -70,6 +70,9 @@ pub struct DiagnoseProgress {
     pub stage: DiagnoseStage,
     pub fraction: f64,
     pub message: String,
+    /// The pass of the diagnosis's plan under way, by its name (`None` before the plan's first
+    /// pass and after its last; the message then says what runs).
+    pub pass: Option<&'static str>,
 }
 
 #[derive(Debug, Error, Clone, PartialEq)]

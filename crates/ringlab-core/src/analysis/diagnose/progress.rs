@@ -2,21 +2,23 @@
 //! stages call it; they do no progress arithmetic of their own).
 
 use super::options::{DiagnoseProgress, DiagnoseStage};
+use super::plan::Phase;
 use crate::analysis::fit::FitProgress;
 use crate::physics::effects::EffectKind;
 use std::sync::Mutex;
 
 /// Where each stage ends on the bar: the baseline's multiple-shooting fit, its whole-run path,
-/// the candidates (with the departure beside them), their second passes, the pairs; then the
-/// words. Where the pairs are needed they take as long as everything before them.
+/// the candidates (with the departure beside them), the plan's singles phase, its selection
+/// (the pairs and larger models); then the words. Where the selection is needed it takes as
+/// long as everything before it. Each pass of the plan has its weight's share of its phase.
 const FIT_END: f64 = 0.08;
 const BASELINE_END: f64 = 0.15;
 const CANDIDATES_END: f64 = 0.50;
-const AGAIN_END: f64 = 0.55;
-/// Where the pairs' first and second rounds end, and where the best pair's passes again start.
-const ROUND_END: [f64; 2] = [0.75, 0.85];
-const PAIR_AGAIN: [f64; 2] = [0.87, 0.92];
+const SINGLES_END: f64 = 0.55;
+const SELECTION_END: f64 = 0.95;
 const EXPLAIN_AT: f64 = 0.97;
+/// The share of the pairs' pass that their first round takes.
+const FIRST_ROUND: f64 = 0.7;
 
 /// Reports the diagnosis's progress to its caller; shared by the worker threads.
 pub(super) struct Reporter<'a> {
@@ -27,6 +29,16 @@ pub(super) struct Reporter<'a> {
     candidates: Mutex<(Vec<f64>, usize)>,
     /// The pairs' round, fitted and planned.
     pairs: Mutex<PairRound>,
+    /// The pass of the plan under way and its stretch of the bar.
+    pass: Mutex<Option<PassSlot>>,
+}
+
+/// A pass of the plan on the bar: its name and where its stretch begins and ends.
+#[derive(Clone, Copy)]
+struct PassSlot {
+    name: &'static str,
+    from: f64,
+    to: f64,
 }
 
 impl<'a> Reporter<'a> {
@@ -36,11 +48,17 @@ impl<'a> Reporter<'a> {
             baseline: Mutex::new(0.0),
             candidates: Mutex::new((vec![0.0; EffectKind::ALL.len()], 0)),
             pairs: Mutex::new(PairRound { round: 0, done: 0, count: 0 }),
+            pass: Mutex::new(None),
         }
     }
 
     fn send(&self, stage: DiagnoseStage, fraction: f64, message: String) {
-        (self.report)(&DiagnoseProgress { stage, fraction, message });
+        let pass = self.slot().map(|p| p.name);
+        (self.report)(&DiagnoseProgress { stage, fraction, message, pass });
+    }
+
+    fn slot(&self) -> Option<PassSlot> {
+        *self.pass.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Stage 1: the fit's own five stages.
@@ -121,37 +139,40 @@ impl<'a> Reporter<'a> {
         }
     }
 
-    /// Stage 3, after every candidate: `what` is fitted again (a camera candidate through the
-    /// camera it found, the best candidates' paths walked again).
-    pub(super) fn fitting_again(&self, what: &str) {
-        self.send(DiagnoseStage::Candidates, CANDIDATES_END, format!("fitting again: {what}"));
+    /// The plan's pass `name` of `phase` begins; it spans `from..to` of its phase (shares).
+    pub(super) fn pass(&self, phase: Phase, name: &'static str, from: f64, to: f64) {
+        let (start, end) = match phase {
+            Phase::Singles => (CANDIDATES_END, SINGLES_END),
+            Phase::Selection => (SINGLES_END, SELECTION_END),
+        };
+        let at = |share: f64| start + (end - start) * share.clamp(0.0, 1.0);
+        let slot = PassSlot { name, from: at(from), to: at(to) };
+        *self.pass.lock().unwrap_or_else(|e| e.into_inner()) = Some(slot);
+        self.send(DiagnoseStage::Candidates, slot.from, name.to_string());
     }
 
     /// Stage 5: the pairs of round `round` (0: the first, 1: the second) are planned, `count`.
     pub(super) fn pairs_planned(&self, round: usize, count: usize) {
+        let slot = self.slot();
         if let Ok(mut st) = self.pairs.lock() {
             *st = PairRound { round: round.min(1), done: 0, count };
-            self.send(DiagnoseStage::Candidates, st.fraction(), st.message());
+            self.send(DiagnoseStage::Candidates, st.fraction(slot), st.message());
         }
     }
 
     /// Stage 5: the pair `a + b` is fitted over the whole run, to `rms_px`.
     pub(super) fn pair_fitted(&self, a: EffectKind, b: EffectKind, rms_px: f64) {
+        let slot = self.slot();
         if let Ok(mut st) = self.pairs.lock() {
             st.done += 1;
             let message = format!("{} ({a} + {b}: {rms_px:.2} px)", st.message());
-            self.send(DiagnoseStage::Candidates, st.fraction(), message);
+            self.send(DiagnoseStage::Candidates, st.fraction(slot), message);
         }
-    }
-
-    /// Stage 5, after the pairs: `what` is fitted again (the best pair; `late`: its last pass).
-    pub(super) fn pair_again(&self, what: &str, late: bool) {
-        let fraction = if late { PAIR_AGAIN[1] } else { PAIR_AGAIN[0] };
-        self.send(DiagnoseStage::Candidates, fraction, format!("pairs of effects: {what}"));
     }
 
     /// Stage 6: the residuals, the signature, the words.
     pub(super) fn explaining(&self) {
+        *self.pass.lock().unwrap_or_else(|e| e.into_inner()) = None;
         self.send(DiagnoseStage::Explain, EXPLAIN_AT, "explaining".into());
     }
 }
@@ -165,10 +186,12 @@ struct PairRound {
 }
 
 impl PairRound {
-    fn fraction(&self) -> f64 {
-        let start = if self.round == 0 { AGAIN_END } else { ROUND_END[0] };
+    /// Where it is on the bar, within the pass `slot` that fits it.
+    fn fraction(&self, slot: Option<PassSlot>) -> f64 {
+        let (from, to) = slot.map_or((SINGLES_END, SELECTION_END), |s| (s.from, s.to));
+        let (a, b) = if self.round == 0 { (0.0, FIRST_ROUND) } else { (FIRST_ROUND, 1.0) };
         let share = (self.done as f64 / self.count.max(1) as f64).min(1.0);
-        start + (ROUND_END[self.round] - start) * share
+        from + (to - from) * (a + (b - a) * share)
     }
 
     fn message(&self) -> String {

@@ -80,6 +80,21 @@ pub fn extras_of(extras: &[ExtraFit], kind: EffectKind) -> Vec<(f64, f64)> {
     extras.iter().filter(|x| x.kind == kind).map(|x| x.value).collect()
 }
 
+/// The two extras that some readers name ([`ModelFit::tilt_deg`], [`ModelFit::rim_share`]),
+/// where fitted.
+pub(super) struct NamedExtras {
+    pub(super) tilt_deg: Option<(f64, f64)>,
+    pub(super) rim_share: Option<(f64, f64)>,
+}
+
+/// The camera's tilt and the rim's share of the Reynolds drag's speed among `extras`.
+pub(super) fn named_extras(extras: &[ExtraFit]) -> NamedExtras {
+    NamedExtras {
+        tilt_deg: extras_of(extras, EffectKind::CameraPerspective).first().copied(),
+        rim_share: extras_of(extras, EffectKind::ReynoldsDrag).first().copied(),
+    }
+}
+
 impl ModelFit {
     /// The fitted model's slip velocity at its first frame (mm/s, along the heading and across
     /// it), where it slides from there (`Effects::slip_start_velocity`).
@@ -136,6 +151,19 @@ pub struct PairCandidate {
     pub strengths: [(f64, f64); 2],
     pub error: Option<String>,
     pub seconds: f64,
+}
+
+/// A named effect's part in the named model's improvement on the baseline.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct NamedShare {
+    pub effect: EffectKind,
+    /// The share (0 to 1) of the cost the named model removes from the baseline's that comes
+    /// back without this effect (1 for one effect named; for several the shares need not sum
+    /// to 1: effects can stand in for part of each other).
+    pub share: f64,
+    /// The misfit without this effect: the best model fitted with the named model's other
+    /// effects and not it (px rms; the baseline's for one effect).
+    pub rms_without_px: f64,
 }
 
 /// A stretch of the recording where the baseline departs from the data beyond its noise.
@@ -289,6 +317,10 @@ pub struct Diagnosis {
     pub candidates: Vec<Candidate>,
     /// The pairs tried after an effect was named (best score first; empty when none were).
     pub pairs: Vec<PairCandidate>,
+    /// Each named effect's share of the improvement, in the order of `after`'s effects (empty
+    /// unless effects were named).
+    #[serde(default)]
+    pub shares: Vec<NamedShare>,
     /// The BIC drop an effect needed to be named.
     pub evidence: f64,
     /// The body's outer radius and width as the recording's header gives them (mm).

@@ -1,6 +1,8 @@
 //! The rules that name an effect, or nothing, or "unexplained": shared by the decision
 //! ([`super::run`]) and the words that explain it ([`super::explain`]).
 
+use super::whole::WholeFit;
+
 /// The share of the baseline's misfit beyond the noise that an effect must explain to be named.
 pub const MIN_EXPLAINED: f64 = 0.5;
 
@@ -24,9 +26,34 @@ pub fn excess_px(rms_px: f64, noise_px: f64) -> f64 {
 /// Tighter than [`CONSISTENT_RATIO`], which says only that nothing is missing.
 pub const SETTLED_EXCESS: f64 = 0.3;
 
-/// Whether a model with misfit `rms_px` has settled the recording ([`SETTLED_EXCESS`]).
-pub fn settled(rms_px: f64, noise_px: f64) -> bool {
-    excess_px(rms_px, noise_px) <= SETTLED_EXCESS * noise_px
+/// How near the noise a model has come: the one test of "settled" that every pass of the plan
+/// and every queue of fits stops by ([`reached`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reach {
+    /// An excess over the noise of at most [`SETTLED_EXCESS`] noise: no other model can be
+    /// told better.
+    Settled,
+    /// Within [`CONSISTENT_RATIO`] of the noise: nothing is left that needs another effect.
+    Consistent,
+}
+
+impl Reach {
+    /// Whether a model with misfit `rms_px` has come this near the noise `noise_px`.
+    pub fn by(self, rms_px: f64, noise_px: f64) -> bool {
+        match self {
+            Reach::Settled => excess_px(rms_px, noise_px) <= SETTLED_EXCESS * noise_px,
+            Reach::Consistent => rms_px <= CONSISTENT_RATIO * noise_px,
+        }
+    }
+}
+
+/// Whether any of `fits` has come as near the noise as `reach` says.
+pub fn reached<'a>(
+    fits: impl IntoIterator<Item = &'a WholeFit>,
+    reach: Reach,
+    noise_px: f64,
+) -> bool {
+    fits.into_iter().any(|w| reach.by(w.rms_px(), noise_px))
 }
 
 /// The share of the baseline's squared misfit beyond the noise (`before^2 - noise^2`) that a
@@ -80,12 +107,14 @@ mod tests {
     #[test]
     fn settled_is_an_excess_of_three_tenths_of_the_noise() {
         // An excess of 0.3 noise is a misfit of sqrt(1.09) = 1.0440 times the noise.
+        let settled = |rms, noise| Reach::Settled.by(rms, noise);
         assert!(settled(0.5220, 0.5));
         assert!(!settled(0.5221, 0.5));
         // A right model where the noise was estimated 3% low.
         assert!(settled(0.496, 0.485));
         assert!(settled(0.49, 0.5));
         // Stricter than consistent: 1.1 times the noise is consistent but not settled.
-        assert!(0.55 <= CONSISTENT_RATIO * 0.5 && !settled(0.55, 0.5));
+        assert!(Reach::Consistent.by(0.55, 0.5) && !settled(0.55, 0.5));
+        assert!(Reach::Consistent.by(0.625, 0.5) && !Reach::Consistent.by(0.6251, 0.5));
     }
 }

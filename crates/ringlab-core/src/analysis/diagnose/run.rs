@@ -1,22 +1,23 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::again::{Again, camera_second_pass, effects_through_camera, walk_best_singles_again};
+use super::again::{Again, Fits, Singles};
 use super::candidates::{fit_baseline, fit_candidates};
 use super::departure::{self, Departure};
 use super::explain::explain;
 use super::noise_correlation::{self, NoiseCorrelation};
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
+use super::plan;
 use super::progress::Reporter;
 use super::residual::{
     MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, Window, departures, frame_rms, frame_sums, windows,
 };
 use super::result::{
-    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, PairCandidate, ResidualSeries,
-    Signature, Trace, extras_of,
+    Candidate, Diagnosis, Finding, MismatchWindow, ModelFit, NamedShare, PairCandidate,
+    ResidualSeries, Signature, Trace, named_extras,
 };
-use super::rules::{bic, settled};
+use super::rules::bic;
 use super::seen_camera::seen_camera;
-use super::select::{Selection, forward_selection, through_seen_kinds};
+use super::select::{Selection, forward_selection, rank};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
@@ -84,7 +85,7 @@ pub fn diagnose(
         forward_selection(&sel, ranked)
     };
     let mut ranked = rank(&baseline, &fits, noise.dependence());
-    let (mut finding, mut chosen, mut pairs) = select(&mut ranked, &noise)?;
+    let (mut finding, mut chosen, mut shares, mut pairs) = select(&mut ranked, &noise)?;
     // A missing effect hides a tracker's correlation from the baseline's residual; the
     // residual of the model named (else of the best single candidate) may show it, and the
     // decision is made again against the noise corrected for it.
@@ -92,7 +93,7 @@ pub fn diagnose(
     let noise = match best.and_then(|w| noise.again_from(w, &ms, tracks.noise.as_ref())) {
         Some(corrected) => {
             ranked = rank(&baseline, &fits, corrected.dependence());
-            (finding, chosen, pairs) = select(&mut ranked, &corrected)?;
+            (finding, chosen, shares, pairs) = select(&mut ranked, &corrected)?;
             corrected
         }
         None => noise,
@@ -100,7 +101,8 @@ pub fn diagnose(
     laps.lap("pairs and the decision");
     progress.explaining();
     let candidates = ranked.into_iter().map(|(c, _)| c).collect();
-    let chosen = Chosen { finding, fit: chosen.as_ref().unwrap_or(&baseline), candidates, pairs };
+    let fit = chosen.as_ref().unwrap_or(&baseline);
+    let chosen = Chosen { finding, fit, candidates, shares, pairs };
     let decided = Decided {
         baseline: &baseline,
         chosen,
@@ -192,9 +194,7 @@ impl Noise {
             Finding::Named(_) => chosen,
             Finding::Unexplained { .. } => ranked
                 .iter()
-                .filter(|(c, w)| {
-                    c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite()
-                })
+                .filter(|(c, w)| !c.effect.is_baseline() && w.is_some() && c.rms_px.is_finite())
                 .min_by(|a, b| a.0.rms_px.total_cmp(&b.0.rms_px))
                 .and_then(|(_, w)| *w),
         }
@@ -226,11 +226,12 @@ struct Chosen<'a> {
     finding: Finding,
     fit: &'a WholeFit,
     candidates: Vec<Candidate>,
+    shares: Vec<NamedShare>,
     pairs: Vec<PairCandidate>,
 }
 
 /// Stage 0: the options checked, and the suspects: where the header gives the camera every
-/// model uses it, and its perspective is no suspect.
+/// model uses it, and the effect that stands in for it is no suspect.
 fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, DiagnoseError> {
     if !(opts.evidence.is_finite() && opts.evidence >= 0.0) {
         return Err(DiagnoseError::Options(format!(
@@ -244,7 +245,7 @@ fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, 
             .candidates
             .iter()
             .copied()
-            .filter(|&k| !(camera_known && k == EffectKind::CameraPerspective))
+            .filter(|&k| !(camera_known && k.in_plan().header_camera))
             .collect(),
         ..opts.clone()
     })
@@ -330,14 +331,9 @@ struct Decided<'a> {
     evidence: f64,
 }
 
-/// Candidate fits, each effect in turn.
-type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
-
 /// Stage 3: where the baseline departs, if it does not follow the whole run, beside every
-/// candidate fitted on the baseline's path; where none settles the recording, a camera
-/// candidate that still misses fitted again through the camera it found, then every effect
-/// through the camera the segments see (where they see one), and the best physical ones
-/// walked again.
+/// candidate fitted on the baseline's path; then the plan's singles phase (`plan.rs`: each
+/// pass only where no fit before it has settled the recording).
 fn candidates_and_departure(
     run: &Run,
     again: &Again,
@@ -362,103 +358,21 @@ fn candidates_and_departure(
         || candidates_stage(ms, baseline.clone(), levels, opts, progress),
     );
     let departure = departure.map_err(lm_error)?;
-    let (baseline, mut fits) = candidates?;
-    // The fits made again only where no candidate has settled the recording: one that has
-    // leaves nothing the noise lets another tell apart (the rule that stops the pairs), and
-    // these fits were a third of a single effect's diagnosis.
-    if !any_settled(&fits, noise_px) {
-        progress.fitting_again("the best candidates");
-        camera_second_pass(again, ms, &baseline, &mut fits, noise_px)?;
-    }
-    if !any_settled(&fits, noise_px)
-        && !settled_through_seen(again, ms, &baseline, &fits, noise, progress)?
-    {
-        walk_best_singles_again(again, ms, levels, &baseline, &mut fits, noise_px)?;
-    }
+    let (baseline, fits) = candidates?;
+    let mut singles = Singles {
+        again,
+        ms,
+        levels,
+        baseline: &baseline,
+        fits,
+        through_seen: Vec::new(),
+        noise_px,
+        dependence: noise.dependence(),
+        progress,
+    };
+    plan::run(&mut singles)?;
+    let fits = singles.fits;
     Ok((departure, baseline, fits))
-}
-
-/// Whether a candidate has settled the recording ([`settled`]).
-fn any_settled(fits: &Fits, noise_px: f64) -> bool {
-    fits.iter().any(|(_, r)| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px)))
-}
-
-/// Where the segments see a camera, every effect through it (the camera alone too), in the
-/// order the forward selection will ask for them ([`through_seen_kinds`]), until one settles
-/// the recording: whether one does. Then the physical candidates need no second walk: on a
-/// pinhole's recordings those walks, a quarter of the time, were of effects the camera
-/// imitated. The fits are kept for the forward selection ([`Again`]).
-fn settled_through_seen(
-    again: &Again,
-    ms: &Shooting,
-    baseline: &WholeFit,
-    fits: &Fits,
-    noise: &Noise,
-    progress: &Reporter,
-) -> Result<bool, DiagnoseError> {
-    let Some(seen) = again.seen else { return Ok(false) };
-    progress.fitting_again("every effect through the camera the segments see");
-    let ranked = rank(baseline, fits, noise.dependence());
-    let kinds: Vec<EffectKind> =
-        [EffectKind::None].into_iter().chain(through_seen_kinds(&ranked)).collect();
-    let through = effects_through_camera(again, ms, seen, &kinds, noise.px)?;
-    Ok(through.iter().any(|w| settled(w.rms_px(), noise.px)))
-}
-
-/// Stage 4: the baseline and every candidate, best BIC first.
-fn rank<'a>(
-    baseline: &'a WholeFit,
-    fits: &'a Fits,
-    dependence: f64,
-) -> Vec<(Candidate, Option<&'a WholeFit>)> {
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
-    let none_score = score(baseline);
-    let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
-        Candidate {
-            effect: EffectKind::None,
-            rms_px: baseline.rms_px(),
-            score: none_score,
-            delta_score: 0.0,
-            strength: None,
-            error: None,
-            seconds: baseline.seconds,
-            stopped_at_segments: baseline.stopped_at,
-        },
-        Some(baseline),
-    )];
-    for (kind, r) in fits {
-        ranked.push(match r {
-            Ok(w) => {
-                let c = Candidate {
-                    effect: *kind,
-                    rms_px: w.rms_px(),
-                    score: score(w),
-                    delta_score: score(w) - none_score,
-                    strength: w.strength,
-                    error: None,
-                    seconds: w.seconds,
-                    stopped_at_segments: w.stopped_at,
-                };
-                (c, Some(w))
-            }
-            Err(e) => {
-                let c = Candidate {
-                    effect: *kind,
-                    rms_px: f64::NAN,
-                    score: f64::INFINITY,
-                    delta_score: f64::INFINITY,
-                    strength: None,
-                    error: Some(e.to_string()),
-                    seconds: 0.0,
-                    stopped_at_segments: None,
-                };
-                (c, None)
-            }
-        });
-    }
-    ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
-    ranked
 }
 
 /// Stage 6: the residuals before and after, the mismatch windows, the signature, the trace:
@@ -472,7 +386,7 @@ fn describe(
 ) -> Result<Diagnosis, DiagnoseError> {
     let rec = &tracks.recording;
     let Decided { baseline, chosen, departure, noise, evidence } = decided;
-    let Chosen { finding, fit: chosen, candidates, pairs } = chosen;
+    let Chosen { finding, fit: chosen, candidates, shares, pairs } = chosen;
     let clock = Clock { first_frame: rec.first_frame, fps: rec.header.fps, dt: base.dt };
     let misfits = Misfits::of(rec, ms, baseline, chosen, departure, noise)?;
     let span = baseline.span.clone();
@@ -507,6 +421,7 @@ fn describe(
         after: model_fit(chosen, score(chosen), base, &clock, signature.end_after_s),
         candidates,
         pairs,
+        shares,
         evidence,
         header_body_mm: [rec.header.outer_radius_mm, rec.header.width_mm],
         residuals,
@@ -658,8 +573,8 @@ fn model_fit(
         c_sigma: w.c_sigma,
         strength: w.strength,
         extras: w.extras.clone(),
-        tilt_deg: extras_of(&w.extras, EffectKind::CameraPerspective).first().copied(),
-        rim_share: extras_of(&w.extras, EffectKind::ReynoldsDrag).first().copied(),
+        tilt_deg: named_extras(&w.extras).tilt_deg,
+        rim_share: named_extras(&w.extras).rim_share,
         also: w.also.clone(),
         body_mm: w.body.map(|(v, s)| (v * base.units.length_mm, s * base.units.length_mm)),
         start: Initial::from_state(&w.start),
@@ -737,7 +652,7 @@ fn candidates_stage(
     progress: &Reporter,
 ) -> Result<(WholeFit, Vec<(EffectKind, Result<WholeFit, LmError>)>), DiagnoseError> {
     let kinds: Vec<EffectKind> =
-        opts.candidates.iter().copied().filter(|&k| k != EffectKind::None).collect();
+        opts.candidates.iter().copied().filter(|&k| !k.is_baseline()).collect();
     let residuals = baseline.residual_count.max(1) as f64;
     let on_level = |k: EffectKind, segments: usize, cost: f64| {
         progress.candidate_level(k, segments, (cost / residuals).sqrt(), kinds.len())

@@ -1,21 +1,24 @@
-//! The decision and the forward selection: which single effect, or pair, is named.
+//! The decision and the forward selection: which single effect, or pair, is named. The
+//! selection is the plan's second phase ([`Choosing`]; its passes are below, their order and
+//! conditions in `plan.rs`); the decision before it ([`decide`]) and the naming after it
+//! ([`Selection::name`]) use one test of "worth its numbers" ([`Selection::worth`]).
 
 use super::again::{
-    Again, best_pair, effects_through_camera, slip_through_camera, walk_best_pair_again,
+    Again, Fits, best_pair, effect_through_camera, effects_through_camera, walk_best_pair_again,
 };
-use super::candidates::{fit_pair, refit_with, refit_without};
-use super::in_order::in_order_until;
+use super::candidates::refit_without;
+use super::noise_correlation::residual_dependence;
 use super::options::DiagnoseError;
+use super::pairs::{self, PairFit, pairs_stage};
+use super::plan;
 use super::progress::Reporter;
-use super::result::{Candidate, Finding, PairCandidate, Partial};
-use super::rules::{CONSISTENT_RATIO, MIN_EXPLAINED, bic, explained_share, explains, settled};
+use super::result::{Candidate, Finding, NamedShare, PairCandidate, Partial};
+use super::rules::{MIN_EXPLAINED, Reach, bic, explained_share, explains};
 use super::seen_camera::FoundCamera;
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
 use crate::physics::effects::EffectKind;
-use std::sync::Mutex;
-use std::sync::atomic::AtomicBool;
 
 /// What the forward selection works with: the problem, the baseline's path and solution, the
 /// noise and the evidence asked, the progress bar (the cancel flag travels with `ms`).
@@ -33,8 +36,8 @@ pub(super) struct Selection<'a> {
 
 /// The pairs (and larger models) fitted so far, and those walked again.
 #[derive(Default)]
-struct Pairs {
-    fits: Vec<PairFit>,
+pub(super) struct Pairs {
+    pub(super) fits: Vec<PairFit>,
     walked: Vec<Vec<EffectKind>>,
 }
 
@@ -48,40 +51,43 @@ impl Pairs {
     }
 }
 
-/// The finding, the model that stands for it (`None`: the baseline) and the pairs tried.
-pub(super) type Selected = (Finding, Option<WholeFit>, Vec<PairCandidate>);
+/// What the plan's selection phase works on: the model chosen by the decision, the ranked
+/// candidates, and the larger models fitted so far.
+pub(super) struct Choosing<'a> {
+    pub(super) sel: &'a Selection<'a>,
+    ranked: &'a [(Candidate, Option<&'a WholeFit>)],
+    chosen: &'a WholeFit,
+    pub(super) pairs: Pairs,
+}
 
-/// Stage 5: the decision ([`decide`]), then forward selection: where the named effect, or no
-/// single one, leaves the misfit beyond the noise, pairs of the candidates that improved on
-/// the baseline; a pair is named only when it beats every effect alone. Where the segments see
-/// a camera, every effect through that camera first, and the pairs only where none of those
-/// settles the recording (a pair walked from the baseline's path starts from segments fitted
-/// through the wrong camera). Each step runs only where none before it has settled it.
+/// The finding, the model that stands for it (`None`: the baseline), each named effect's share
+/// of the improvement and the pairs tried.
+pub(super) type Selected = (Finding, Option<WholeFit>, Vec<NamedShare>, Vec<PairCandidate>);
+
+/// The finding, the model that stands for it and that model fitted without each of its
+/// effects (empty for one effect: without it, it is the baseline).
+type Named = (Finding, Option<WholeFit>, Vec<WholeFit>);
+
+/// The decision ([`decide`]), then forward selection (the plan's selection phase): where the
+/// named effect, or no single one, leaves the misfit beyond the noise, larger models of the
+/// candidates; one is named only where it beats every effect alone ([`Selection::name`]).
 pub(super) fn forward_selection(
     sel: &Selection,
     ranked: &mut [(Candidate, Option<&WholeFit>)],
 ) -> Result<Selected, DiagnoseError> {
-    let (finding, chosen) = decide(sel.baseline, ranked, sel.noise_px, sel.evidence);
+    let (finding, chosen) = decide(sel, ranked);
     let chosen = chosen.unwrap_or(sel.baseline);
-    let pairs_fitted = chosen.rms_px() > CONSISTENT_RATIO * sel.noise_px;
-    let through_seen = sel.again.seen.filter(|_| pairs_fitted);
-    let mut pairs = Pairs::default();
-    if pairs_fitted {
-        sel.through_seen_camera(through_seen, chosen, ranked, &mut pairs)?;
-        sel.pairs_then_added(ranked, &mut pairs)?;
-    }
-    sel.chosen_through_seen_camera(through_seen, chosen, &mut pairs)?;
-    if pairs_fitted && through_seen.is_none() {
-        sel.slip_through_lead_camera(ranked, &mut pairs)?;
-    }
-    if pairs_fitted {
-        sel.others_through_cameras(through_seen, ranked, &mut pairs)?;
-    }
-    sel.walk_best_pair_again(&mut pairs)?;
+    let mut work = Choosing { sel, ranked, chosen, pairs: Pairs::default() };
+    plan::run(&mut work)?;
+    let pairs = work.pairs;
     let trimmed = sel.trimmed(&pairs)?;
     let best_pair = trimmed.as_ref().or_else(|| sel.best_of(&pairs));
-    let (finding, chosen) = sel.name(finding, chosen, best_pair, ranked)?;
-    Ok((finding, chosen, sel.pair_candidates(&pairs)))
+    let (finding, chosen, without) = sel.name(finding, chosen, best_pair, ranked)?;
+    let shares = match (&finding, &chosen) {
+        (Finding::Named(_), Some(m)) => sel.shares(m, &without, ranked),
+        _ => Vec::new(),
+    };
+    Ok((finding, chosen, shares, sel.pair_candidates(&pairs)))
 }
 
 impl Selection<'_> {
@@ -89,158 +95,60 @@ impl Selection<'_> {
         bic(w.cost, self.baseline.residual_count, w.parameter_count, self.dependence)
     }
 
-    /// Every effect through the camera the segments see (`through_seen`): the chosen one with
-    /// the camera free, then the others, most promising first.
-    fn through_seen_camera(
+    /// Whether model `with` is worth its numbers over `without` (the same model with fewer
+    /// effects, or the model it would replace): the one test the decision and the naming make.
+    /// A BIC test, its BIC below `without`'s by the evidence asked, on the residuals that count
+    /// as independent: the noise's dependence from frame to frame, or that of `with`'s own
+    /// residual where larger ([`residual_dependence`]: a tracker's correlated noise that the
+    /// noise's test did not take for one, or motion the model misses). On white residuals the
+    /// two are the same; where the residual is correlated, a number that takes up a little of it
+    /// would otherwise buy many BIC points for nothing the recording can tell (docs/diagnosis.md,
+    /// "Parsimony").
+    pub(super) fn worth(&self, with: &WholeFit, without: &WholeFit) -> bool {
+        let dependence = self.dependence.max(self.residual_dependence(with));
+        let n = self.baseline.residual_count;
+        let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
+        score(with) < score(without) - self.evidence
+    }
+
+    /// The dependence of `w`'s residual from frame to frame (1 where it cannot be run).
+    fn residual_dependence(&self, w: &WholeFit) -> f64 {
+        let Some(pred) = w.marks(self.ms) else { return 1.0 };
+        residual_dependence(self.ms.observed, w.span.start, &pred)
+    }
+
+    /// Each effect of `named`'s share of its improvement on the baseline: how much of the cost
+    /// it removes comes back without that effect. Without it is the best of the models fitted
+    /// that hold every other effect of `named` and not it: `named` refitted without it
+    /// (`without`), the single candidate of the other effect, the baseline (each nests the
+    /// baseline, so none ends worse than it).
+    fn shares(
         &self,
-        through_seen: Option<&FoundCamera>,
-        chosen: &WholeFit,
+        named: &WholeFit,
+        without: &[WholeFit],
         ranked: &[(Candidate, Option<&WholeFit>)],
-        pairs: &mut Pairs,
-    ) -> Result<(), DiagnoseError> {
-        let Some(seen) = through_seen else { return Ok(()) };
-        self.progress.pair_again("every effect through the camera the segments see", false);
-        let kinds: Vec<EffectKind> =
-            [camera_free(chosen.kind)].into_iter().chain(through_seen_kinds(ranked)).collect();
-        pairs.extend(effects_through_camera(self.again, self.ms, seen, &kinds, self.noise_px)?);
-        Ok(())
-    }
-
-    /// The pairs ([`pairs_stage`]), then each other effect added to the best one's solution
-    /// ([`added_to_best`]), each where nothing before it settled the recording.
-    fn pairs_then_added(
-        &self,
-        ranked: &[(Candidate, Option<&WholeFit>)],
-        pairs: &mut Pairs,
-    ) -> Result<(), DiagnoseError> {
-        if !settles(&pairs.fits, self.noise_px) {
-            let (more, walked) = pairs_stage(
-                self.again,
-                self.ms,
-                self.levels,
-                ranked,
-                self.noise_px,
-                self.progress,
-            )?;
-            pairs.fits.extend(more);
-            pairs.walked = walked;
-        }
-        if !settles(&pairs.fits, self.noise_px) {
-            self.progress.pair_again("each other effect added to the best one's solution", false);
-            added_to_best(self.ms, ranked, &mut pairs.fits, self.noise_px)?;
-        }
-        Ok(())
-    }
-
-    /// A camera the segments see that the model chosen so far lacks (part of): that model's
-    /// effect fitted through it, the camera then free beside it, as a pair; tried even where
-    /// the model ends within the noise's margin (a weak lens beside rolling friction, a lens
-    /// beside a pinhole).
-    fn chosen_through_seen_camera(
-        &self,
-        through_seen: Option<&FoundCamera>,
-        chosen: &WholeFit,
-        pairs: &mut Pairs,
-    ) -> Result<(), DiagnoseError> {
-        let Some(seen) = self.again.seen.filter(|_| through_seen.is_none()) else { return Ok(()) };
-        let held = chosen.kinds();
-        if seen.numbers.iter().any(|(k, _)| !held.contains(k)) {
-            self.progress.pair_again("the chosen model through the camera the segments see", false);
-            let kinds = [camera_free(chosen.kind)];
-            pairs.extend(effects_through_camera(self.again, self.ms, seen, &kinds, self.noise_px)?);
-        }
-        Ok(())
-    }
-
-    /// The camera a fit found: the one the segments see, else its own.
-    fn found(&self, lead: &WholeFit) -> FoundCamera {
-        self.again.seen.cloned().unwrap_or_else(|| FoundCamera::of(lead))
-    }
-
-    /// Where a camera effect leads and slip did not improve alone, slip through that camera
-    /// ([`slip_through_camera`]).
-    fn slip_through_lead_camera(
-        &self,
-        ranked: &[(Candidate, Option<&WholeFit>)],
-        pairs: &mut Pairs,
-    ) -> Result<(), DiagnoseError> {
-        if settles(&pairs.fits, self.noise_px) {
-            return Ok(());
-        }
-        let seen = self.again.seen.is_some();
-        let Some(lead) =
-            camera_lead_without_slip(ranked, &pairs.fits, self.baseline, self.noise_px, seen)
-        else {
-            return Ok(());
+    ) -> Vec<NamedShare> {
+        let gain = self.baseline.cost - named.cost;
+        let kinds = named.kinds();
+        let share_of = |effect: EffectKind| {
+            let others: Vec<EffectKind> = kinds.iter().copied().filter(|&k| k != effect).collect();
+            let holds_others = |w: &WholeFit| {
+                let held = w.kinds();
+                !held.contains(&effect) && others.iter().all(|k| held.contains(k))
+            };
+            let singles = ranked.iter().filter_map(|(_, w)| *w);
+            let less = without
+                .iter()
+                .chain(singles.filter(|w| others.len() == 1 && w.kind == others[0]))
+                .filter(|w| holds_others(w))
+                .chain([self.baseline])
+                .min_by(|a, b| a.cost.total_cmp(&b.cost))
+                .unwrap_or(self.baseline);
+            let share =
+                if gain > 0.0 { ((less.cost - named.cost) / gain).clamp(0.0, 1.0) } else { 0.0 };
+            NamedShare { effect, share, rms_without_px: less.rms_px() }
         };
-        self.progress.pair_again(&format!("slip through the camera {} found", lead.kind), true);
-        if let Some(p) = slip_through_camera(self.again, self.ms, &self.found(lead), self.noise_px)?
-        {
-            pairs.fits.push((lead.kind, EffectKind::Slip, Ok(p)));
-        }
-        Ok(())
-    }
-
-    /// Where a camera effect leads and every pair still misses, every other effect through
-    /// the camera the segments see, then through the one the leading camera effect found: a
-    /// weak strength can stay in the baseline's valley through either.
-    fn others_through_cameras(
-        &self,
-        through_seen: Option<&FoundCamera>,
-        ranked: &[(Candidate, Option<&WholeFit>)],
-        pairs: &mut Pairs,
-    ) -> Result<(), DiagnoseError> {
-        let seen = self.again.seen.is_some();
-        let Some(lead) = camera_lead_still_missing(ranked, &pairs.fits, self.noise_px, seen) else {
-            return Ok(());
-        };
-        let mut cameras: Vec<FoundCamera> =
-            self.again.seen.filter(|_| through_seen.is_none()).cloned().into_iter().collect();
-        if lead.kind.is_camera() && !cameras.contains(&FoundCamera::of(lead)) {
-            cameras.push(FoundCamera::of(lead));
-        }
-        self.progress.pair_again("the other effects through the camera found", false);
-        let kinds = others_through_camera(ranked, seen);
-        for camera in cameras {
-            if reaches_noise(&pairs.fits, self.noise_px) {
-                break;
-            }
-            pairs.extend(effects_through_camera(
-                self.again,
-                self.ms,
-                &camera,
-                &kinds,
-                self.noise_px,
-            )?);
-        }
-        Ok(())
-    }
-
-    /// The best pair walked down its path again (not twice: the pairs stage may have walked
-    /// it already), then, where it is slip beside a camera, slip through that camera.
-    fn walk_best_pair_again(&self, pairs: &mut Pairs) -> Result<(), DiagnoseError> {
-        if !pairs.fits.is_empty() {
-            self.progress.pair_again("the best pair fitted again", false);
-        }
-        let score = |w: &WholeFit| self.score(w);
-        if best_pair(&mut pairs.fits, &score).is_none_or(|p| !pairs.walked.contains(&p.kinds())) {
-            walk_best_pair_again(
-                self.again,
-                self.ms,
-                self.levels,
-                &mut pairs.fits,
-                &score,
-                self.noise_px,
-            )?;
-        }
-        slip_pair_through_its_camera(
-            self.again,
-            self.ms,
-            &mut pairs.fits,
-            &score,
-            self.noise_px,
-            self.progress,
-        )
+        kinds.iter().map(|&k| share_of(k)).collect()
     }
 
     /// The best pair fitted.
@@ -252,8 +160,9 @@ impl Selection<'_> {
             .min_by(|a, b| self.score(a).total_cmp(&self.score(b)))
     }
 
-    /// A model of three effects (slip through a camera of two the segments see) is named only
-    /// where each is needed: else the best of it with one left out stands for it.
+    /// A model of three effects (an effect through a camera of two the segments see) is named
+    /// only where each is worth its numbers: else the best of it with one left out stands for
+    /// it.
     fn trimmed(&self, pairs: &Pairs) -> Result<Option<WholeFit>, DiagnoseError> {
         match self.best_of(pairs) {
             Some(p) if p.also.len() > 1 => {
@@ -261,7 +170,7 @@ impl Selection<'_> {
                 Ok(fewer
                     .into_iter()
                     .min_by(|a, b| self.score(a).total_cmp(&self.score(b)))
-                    .filter(|r| self.score(r) <= self.score(p) + self.evidence))
+                    .filter(|r| !self.worth(p, r)))
             }
             _ => Ok(None),
         }
@@ -272,43 +181,41 @@ impl Selection<'_> {
     /// fit can end in a side valley the pair's extra number lets the least squares leave); that
     /// effect alone where it does; else the pair as the better partial answer where it removes
     /// at least half of what the best single one leaves beyond the noise.
-    /// Returns the finding and the model that stands for it (`None`: the baseline).
+    /// Returns the finding, the model that stands for it (`None`: the baseline) and, where that
+    /// is a larger model, it fitted without each of its effects.
     fn name(
         &self,
         mut finding: Finding,
         chosen: &WholeFit,
         best_pair: Option<&WholeFit>,
         ranked: &mut [(Candidate, Option<&WholeFit>)],
-    ) -> Result<(Finding, Option<WholeFit>), DiagnoseError> {
-        let (noise_px, evidence) = (self.noise_px, self.evidence);
+    ) -> Result<Named, DiagnoseError> {
+        let noise_px = self.noise_px;
         let none_score = self.score(self.baseline);
         let pair_wins = best_pair.is_some_and(|p| {
-            self.score(p) < self.score(chosen) - evidence
-                && explains(chosen.rms_px(), p.rms_px(), noise_px)
+            self.worth(p, chosen) && explains(chosen.rms_px(), p.rms_px(), noise_px)
         });
         let alone = match best_pair.filter(|_| pair_wins) {
             Some(p) => drop_each(self.ms, p)?,
             None => Vec::new(),
         };
         let best_alone = alone.iter().min_by(|a, b| self.score(a).total_cmp(&self.score(b)));
-        let alone_enough = best_alone
-            .zip(best_pair)
-            .is_some_and(|(a, p)| self.score(a) <= self.score(p) + evidence);
+        let alone_enough = best_alone.zip(best_pair).is_some_and(|(a, p)| !self.worth(p, a));
         if let (Some(p), false) = (best_pair.filter(|_| pair_wins), alone_enough) {
             let named = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
-            return Ok((Finding::Named(named), Some(p.clone())));
+            return Ok((Finding::Named(named), Some(p.clone()), alone));
         }
         if let Some(a) = best_alone.filter(|a| {
             alone_enough
                 && self.score(a) < self.score(chosen)
-                && self.score(a) < none_score - evidence
+                && self.worth(a, self.baseline)
                 && explains(self.baseline.rms_px(), a.rms_px(), noise_px)
         }) {
             if let Some((c, _)) = ranked.iter_mut().find(|(c, _)| c.effect == a.kind) {
                 (c.rms_px, c.score, c.delta_score, c.strength) =
                     (a.rms_px(), self.score(a), self.score(a) - none_score, a.strength);
             }
-            return Ok((Finding::Named(vec![a.kind]), Some(a.clone())));
+            return Ok((Finding::Named(vec![a.kind]), Some(a.clone()), Vec::new()));
         }
         if let (Finding::Unexplained { partial }, Some(p)) = (&mut finding, best_pair) {
             let share = explained_share(self.baseline.rms_px(), p.rms_px(), noise_px);
@@ -323,7 +230,8 @@ impl Selection<'_> {
                 });
             }
         }
-        Ok((finding, (!std::ptr::eq(chosen, self.baseline)).then(|| chosen.clone())))
+        let model = (!std::ptr::eq(chosen, self.baseline)).then(|| chosen.clone());
+        Ok((finding, model, Vec::new()))
     }
 
     /// The pairs tried, as the diagnosis reports them, best first.
@@ -365,57 +273,201 @@ impl Selection<'_> {
 /// The effect of `kind` with the camera left to the camera fitted: `None` for a camera
 /// effect (the camera alone, fitted through the camera found).
 fn camera_free(kind: EffectKind) -> EffectKind {
-    if kind.is_camera() { EffectKind::None } else { kind }
+    if kind.is_camera() { EffectKind::BASELINE } else { kind }
 }
 
 /// The effects fitted through the camera the segments see, most promising first: by their
-/// score alone, but slip, where it did not improve alone, second. Through the wrong camera it
-/// cannot improve ([`slip_through_camera`]), so its score says nothing; its runs take longest,
-/// so begun early they run beside the others' (the pairs, where nothing settles, wait for the
-/// last of them), and where it settles the recording the others are not fitted.
+/// score alone, but a costly effect that did not improve alone second. Through the wrong camera
+/// it cannot improve ([`effect_through_camera`]), so its score says nothing; its runs take
+/// longest, so begun early they run beside the others' (the pairs, where nothing settles, wait
+/// for the last of them), and where it settles the recording the others are not fitted.
 pub(super) fn through_seen_kinds(ranked: &[(Candidate, Option<&WholeFit>)]) -> Vec<EffectKind> {
     let mut kinds = others_through_camera(ranked, true);
-    if ranked.iter().any(|(c, _)| c.effect == EffectKind::Slip)
-        && !kinds.contains(&EffectKind::Slip)
-    {
-        kinds.insert(kinds.len().min(1), EffectKind::Slip);
+    for (c, _) in ranked.iter().filter(|(c, _)| c.effect.in_plan().costly) {
+        if !kinds.contains(&c.effect) {
+            kinds.insert(kinds.len().min(1), c.effect);
+        }
     }
     kinds
 }
 
-/// The candidates fitted through a camera found: every effect but slip, which has its own step
-/// ([`slip_through_camera`]) where it did not improve alone; where it did, and the segments see
-/// a camera (`camera_seen`), it is one of the others.
+/// The candidates fitted through a camera found: every effect but a costly one, which has its
+/// own pass ([`costly_through_lead`]) where it did not improve alone; where it did, and the
+/// segments see a camera (`camera_seen`), it is one of the others.
 fn others_through_camera(
     ranked: &[(Candidate, Option<&WholeFit>)],
     camera_seen: bool,
 ) -> Vec<EffectKind> {
     ranked
         .iter()
-        .filter(|(c, _)| c.effect != EffectKind::None)
-        .filter(|(c, _)| c.effect != EffectKind::Slip || (camera_seen && c.delta_score < 0.0))
+        .filter(|(c, _)| !c.effect.is_baseline())
+        .filter(|(c, _)| !c.effect.in_plan().costly || (camera_seen && c.delta_score < 0.0))
         .map(|(c, _)| c.effect)
         .collect()
 }
 
-/// The best pair where it is slip beside a camera effect and still misses beyond the noise:
-/// slip fitted again through the pair's camera ([`slip_through_camera`]), kept where better.
-fn slip_pair_through_its_camera(
-    again: &Again,
-    ms: &Shooting,
-    pairs: &mut [PairFit],
-    score: &dyn Fn(&WholeFit) -> f64,
-    noise_px: f64,
-    progress: &Reporter,
-) -> Result<(), DiagnoseError> {
-    let Some(p) = best_pair(pairs, score) else { return Ok(()) };
-    let kinds: Vec<EffectKind> = p.also.iter().map(|(k, _)| *k).chain([p.kind]).collect();
-    let slip_with_camera = kinds.contains(&EffectKind::Slip) && kinds.iter().any(|k| k.is_camera());
-    if !slip_with_camera || p.rms_px() <= CONSISTENT_RATIO * noise_px {
-        return Ok(());
+impl<'a> Choosing<'a> {
+    /// Whether the model chosen still misses beyond the noise's margin: then larger models
+    /// are fitted.
+    fn misses(&self) -> bool {
+        !Reach::Consistent.by(self.chosen.rms_px(), self.sel.noise_px)
     }
-    progress.pair_again("slip fitted again through the best pair's camera", true);
-    if let Some(again) = slip_through_camera(again, ms, &FoundCamera::of(p), noise_px)?
+
+    fn seen(&self) -> Option<&'a FoundCamera> {
+        self.sel.again.seen
+    }
+
+    /// Each of `kinds` beside the camera effects of `camera` ([`effects_through_camera`]).
+    fn extend_through(
+        &mut self,
+        camera: &FoundCamera,
+        kinds: &[EffectKind],
+    ) -> Result<(), DiagnoseError> {
+        let s = self.sel;
+        self.pairs.extend(effects_through_camera(s.again, s.ms, camera, kinds, s.noise_px)?);
+        Ok(())
+    }
+}
+
+/// Where the model chosen misses beyond the noise's margin.
+pub(super) fn misses(w: &Choosing) -> bool {
+    w.misses()
+}
+
+/// Where it misses and the segments see a camera.
+pub(super) fn misses_with_seen(w: &Choosing) -> bool {
+    w.misses() && w.seen().is_some()
+}
+
+/// Every effect through the camera the segments see: the chosen one with the camera free,
+/// then the others, most promising first ([`through_seen_kinds`]). A pair walked from the
+/// baseline's path starts from segments fitted through the wrong camera.
+pub(super) fn through_seen(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let Some(seen) = w.seen() else { return Ok(()) };
+    let kinds: Vec<EffectKind> =
+        [camera_free(w.chosen.kind)].into_iter().chain(through_seen_kinds(w.ranked)).collect();
+    w.extend_through(seen, &kinds)
+}
+
+/// The pairs of the best candidates on the baseline's path ([`pairs_stage`]).
+pub(super) fn pairs(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let s = w.sel;
+    let (more, walked) = pairs_stage(s.again, s.ms, s.levels, w.ranked, s.noise_px, s.progress)?;
+    w.pairs.fits.extend(more);
+    w.pairs.walked = walked;
+    Ok(())
+}
+
+/// Each other effect (not a costly one) added to the best one's solution
+/// ([`pairs::added_to_best`]).
+pub(super) fn added_to_best(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let others = others_through_camera(w.ranked, false);
+    pairs::added_to_best(w.sel.ms, w.ranked, &others, &mut w.pairs.fits, w.sel.noise_px)
+}
+
+/// Where the chosen model ends within the noise's margin and the segments see a camera it
+/// lacks (part of): tried even then (a weak camera effect beside a physical one, or beside
+/// the other camera effect).
+pub(super) fn seen_lacked(w: &Choosing) -> bool {
+    let held = w.chosen.kinds();
+    !w.misses() && w.seen().is_some_and(|seen| seen.numbers.iter().any(|(k, _)| !held.contains(k)))
+}
+
+/// The chosen model's effect fitted through the camera the segments see, the camera then free
+/// beside it, as a pair.
+pub(super) fn chosen_through_seen(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let Some(seen) = w.seen() else { return Ok(()) };
+    w.extend_through(seen, &[camera_free(w.chosen.kind)])
+}
+
+/// The best single candidate's fit where it is a camera effect that improved on the baseline.
+fn camera_lead<'a>(ranked: &[(Candidate, Option<&'a WholeFit>)]) -> Option<&'a WholeFit> {
+    let (lead, w) = ranked.iter().find(|(c, _)| !c.effect.is_baseline())?;
+    (lead.effect.is_camera() && lead.delta_score < 0.0).then_some(*w).flatten()
+}
+
+/// The costly candidates offered that did not improve on the baseline alone.
+fn costly_not_improved(ranked: &[(Candidate, Option<&WholeFit>)]) -> Vec<EffectKind> {
+    let costly = ranked.iter().filter(|(c, _)| c.effect.in_plan().costly && c.delta_score >= 0.0);
+    costly.map(|(c, _)| c.effect).collect()
+}
+
+/// Where it misses, the segments see no camera, pairs were fitted, a costly candidate did not
+/// improve alone, and a camera effect leads that explains at least [`MIN_EXPLAINED`] of the
+/// baseline's excess. A camera that explains less imitates a little of some other effect, and
+/// a costly effect through it, the slowest fit there is, buys nothing (docs/diagnosis.md).
+pub(super) fn camera_leads_without_costly(w: &Choosing) -> bool {
+    let (before, noise_px) = (w.sel.baseline.rms_px(), w.sel.noise_px);
+    w.misses()
+        && w.seen().is_none()
+        && !w.pairs.fits.is_empty()
+        && !costly_not_improved(w.ranked).is_empty()
+        && camera_lead(w.ranked)
+            .is_some_and(|lead| explained_share(before, lead.rms_px(), noise_px) >= MIN_EXPLAINED)
+}
+
+/// Each costly candidate that did not improve alone, fitted through the camera the leading
+/// camera effect found ([`effect_through_camera`]).
+pub(super) fn costly_through_lead(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let Some(lead) = camera_lead(w.ranked) else { return Ok(()) };
+    let (s, found) = (w.sel, FoundCamera::of(lead));
+    for kind in costly_not_improved(w.ranked) {
+        if let Some(p) = effect_through_camera(s.again, s.ms, &found, kind, s.noise_px)? {
+            w.pairs.fits.push((lead.kind, kind, Ok(p)));
+        }
+    }
+    Ok(())
+}
+
+/// Where it misses, pairs were fitted and a camera effect leads (the plan skips it where a
+/// pair has come within the noise's margin).
+pub(super) fn camera_leads_missing(w: &Choosing) -> bool {
+    w.misses() && !w.pairs.fits.is_empty() && camera_lead(w.ranked).is_some()
+}
+
+/// Every other candidate (the other camera effect among them) through the camera the leading
+/// camera effect found: a weak strength can stay in the baseline's valley through the
+/// baseline's camera.
+pub(super) fn others_through_lead(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let Some(lead) = camera_lead(w.ranked) else { return Ok(()) };
+    let kinds = others_through_camera(w.ranked, w.seen().is_some());
+    w.extend_through(&FoundCamera::of(lead), &kinds)
+}
+
+/// Where the best pair has not settled the recording and was not walked again by the pairs.
+pub(super) fn best_pair_unwalked(w: &Choosing) -> bool {
+    w.sel.best_of(&w.pairs).is_some_and(|p| {
+        !w.pairs.walked.contains(&p.kinds()) && !Reach::Settled.by(p.rms_px(), w.sel.noise_px)
+    })
+}
+
+/// The best pair walked down its path again ([`walk_best_pair_again`]).
+pub(super) fn walk_best_pair(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let s = w.sel;
+    let score = |x: &WholeFit| s.score(x);
+    walk_best_pair_again(s.again, s.ms, s.levels, &mut w.pairs.fits, &score, s.noise_px)
+}
+
+/// Where the best pair holds a costly effect beside a camera effect and still misses beyond the
+/// noise's margin.
+pub(super) fn best_pair_costly_with_camera(w: &Choosing) -> bool {
+    w.sel.best_of(&w.pairs).is_some_and(|p| {
+        let kinds = p.kinds();
+        kinds.iter().any(|k| k.in_plan().costly)
+            && kinds.iter().any(|k| k.is_camera())
+            && !Reach::Consistent.by(p.rms_px(), w.sel.noise_px)
+    })
+}
+
+/// The best pair's costly effect fitted again through the pair's camera
+/// ([`effect_through_camera`]), kept where better.
+pub(super) fn costly_through_pair_camera(w: &mut Choosing) -> Result<(), DiagnoseError> {
+    let s = w.sel;
+    let score = |x: &WholeFit| s.score(x);
+    let Some(p) = best_pair(&mut w.pairs.fits, &score) else { return Ok(()) };
+    let Some(kind) = p.kinds().into_iter().find(|k| k.in_plan().costly) else { return Ok(()) };
+    if let Some(again) =
+        effect_through_camera(s.again, s.ms, &FoundCamera::of(p), kind, s.noise_px)?
         && again.cost < p.cost
     {
         let seconds = p.seconds + again.seconds;
@@ -424,92 +476,30 @@ fn slip_pair_through_its_camera(
     Ok(())
 }
 
-/// The best single candidate where it is a camera effect that explains at least
-/// [`MIN_EXPLAINED`] of the baseline's excess, and slip was offered but not paired (it did
-/// not improve on the baseline alone): then slip is fitted through that camera
-/// ([`slip_through_camera`]). Only where the pairs were fitted at all. A camera that explains
-/// less imitates a little of some other effect, and slip through it, the slowest fit there
-/// is, bought nothing there (withheld translational drag: a lens explaining 4% of the excess,
-/// slip through it 40 s and 120.8 px against the baseline's 1.34; docs/diagnosis.md).
-fn camera_lead_without_slip<'a>(
-    ranked: &[(Candidate, Option<&'a WholeFit>)],
-    pair_fits: &[PairFit],
-    baseline: &WholeFit,
-    noise_px: f64,
-    camera_seen: bool,
-) -> Option<&'a WholeFit> {
-    if pair_fits.is_empty() {
-        return None;
-    }
-    let slip = ranked.iter().find(|(c, _)| c.effect == EffectKind::Slip)?;
-    if slip.0.delta_score < 0.0 {
-        return None;
-    }
-    camera_lead(ranked, camera_seen)
-        .filter(|lead| explained_share(baseline.rms_px(), lead.rms_px(), noise_px) >= MIN_EXPLAINED)
-}
-
-/// The best single candidate where it is a camera effect that improved on the baseline and
-/// no pair reaches the noise: then the other candidates (slip has its own step), the other
-/// camera effect among them, are fitted through that camera ([`effects_through_camera`]). Only where the pairs were fitted at all.
-fn camera_lead_still_missing<'a>(
-    ranked: &[(Candidate, Option<&'a WholeFit>)],
-    pair_fits: &[PairFit],
-    noise_px: f64,
-    camera_seen: bool,
-) -> Option<&'a WholeFit> {
-    if pair_fits.is_empty() || reaches_noise(pair_fits, noise_px) {
-        return None;
-    }
-    camera_lead(ranked, camera_seen)
-}
-
-/// The best single candidate's fit where it improved on the baseline and is a camera effect,
-/// or any effect where the segments see a camera (`camera_seen`: a physical effect can lead
-/// where the camera imitates part of it).
-fn camera_lead<'a>(
-    ranked: &[(Candidate, Option<&'a WholeFit>)],
-    camera_seen: bool,
-) -> Option<&'a WholeFit> {
-    let (lead, w) = ranked.iter().find(|(c, _)| c.effect != EffectKind::None)?;
-    ((camera_seen || lead.effect.is_camera()) && lead.delta_score < 0.0).then_some(*w).flatten()
-}
-
-/// A pair of the forward selection: its two effects and its fit.
-type PairFit = (EffectKind, EffectKind, Result<WholeFit, LmError>);
-
-/// Whether a pair fitted reaches [`CONSISTENT_RATIO`] times the noise (then no other pair is
-/// needed to explain what is left).
-fn reaches_noise(pair_fits: &[PairFit], noise_px: f64) -> bool {
-    pair_fits
-        .iter()
-        .any(|(_, _, r)| r.as_ref().is_ok_and(|w| w.rms_px() <= CONSISTENT_RATIO * noise_px))
-}
-
-/// What the ranked candidates say (see the module doc): the best by BIC of those that beat the
-/// baseline by `evidence` and explain its misfit beyond the noise ([`explains`]) is named; else nothing is missing when the baseline is within [`CONSISTENT_RATIO`]
-/// of the noise, and something unexplained when it is not. BIC alone is not enough: where the
-/// baseline misses by far more than the noise its residuals are no white noise, and any extra
-/// parameter that bends the path a little buys thousands of BIC points (a lens fitted to a
-/// sliding ring's recording: -735 for a misfit from 14.6 to 14.2 px).
+/// What the ranked candidates say (see the module doc): the best by BIC of those worth their
+/// numbers over the baseline ([`Selection::worth`]) that explain its misfit beyond the noise
+/// ([`explains`]) is named; else nothing is missing when the baseline is within
+/// [`Reach::Consistent`] of the noise, and something unexplained when it is not. BIC alone is
+/// not enough: where the baseline misses by far more than the noise its residuals are no white
+/// noise, and any extra parameter that bends the path a little buys thousands of BIC points.
 pub(super) fn decide<'a>(
-    baseline: &WholeFit,
+    sel: &Selection,
     ranked: &[(Candidate, Option<&'a WholeFit>)],
-    noise_px: f64,
-    evidence: f64,
 ) -> (Finding, Option<&'a WholeFit>) {
+    let (baseline, noise_px) = (sel.baseline, sel.noise_px);
     let before = baseline.rms_px();
     let effects = || {
         ranked
             .iter()
-            .filter(|(c, w)| c.effect != EffectKind::None && w.is_some() && c.rms_px.is_finite())
+            .filter(|(c, w)| !c.effect.is_baseline() && w.is_some() && c.rms_px.is_finite())
     };
-    if let Some((c, w)) =
-        effects().find(|(c, _)| c.delta_score < -evidence && explains(before, c.rms_px, noise_px))
-    {
+    let named = effects().find(|(c, w)| {
+        explains(before, c.rms_px, noise_px) && w.is_some_and(|w| sel.worth(w, baseline))
+    });
+    if let Some((c, w)) = named {
         return (Finding::Named(vec![c.effect]), *w);
     }
-    if before <= CONSISTENT_RATIO * noise_px {
+    if Reach::Consistent.by(before, noise_px) {
         return (Finding::Nothing, None);
     }
     let share = |c: &Candidate| explained_share(before, c.rms_px, noise_px);
@@ -538,179 +528,58 @@ fn drop_each(ms: &Shooting, p: &WholeFit) -> Result<Vec<WholeFit>, DiagnoseError
     Ok(out)
 }
 
-/// How many of the best single candidates (by BIC, better than the baseline) the forward
-/// selection pairs with each other. Pairs among the best few and not only with the one named:
-/// where two effects are in a recording, the one named alone is often a third that imitates
-/// both (Reynolds drag and pivot friction together are named rolling friction alone); and
-/// four, not three, because a camera candidate can imitate part of a physical effect and push
-/// one of the pair out of the best three.
-const PAIRED: usize = 4;
-
-/// How many of the best single candidates are each paired with every other candidate, also
-/// those that did nothing alone. An effect can be invisible alone where another is at work:
-/// the baseline's drag absorbs it, or it only shows once the other is in the model (a lens
-/// beside rolling friction: alone 13.70 px against the baseline's 13.72; Reynolds drag beside
-/// pivot friction: alone no better than the baseline at all). Three, not one, because the best
-/// alone can itself be the imitator of a pair's member, and a pair's member alone can end in a
-/// side valley that ranks it third (rolling friction beside a lens: 7.3 px alone, where it
-/// reaches 4.6 px; with it the lens then reaches the noise).
-const LEADS: usize = 3;
-
-/// The pairs of the forward selection, each fitted on the baseline's path: every pair among
-/// the [`PAIRED`] best single candidates, and each of the [`LEADS`] best with every other
-/// candidate (slip only where it improved on the baseline alone: its runs cost most, and a
-/// slide the recording shows moves the misfit alone by far); the second and third leads' pairs
-/// only where none of the others reaches the noise. Fitted most promising first, on every
-/// thread, until one settles the recording ([`in_order_until`]). Returns the pairs fitted and
-/// those walked again.
-fn pairs_stage(
-    again: &Again,
-    ms: &Shooting,
-    levels: &[Level],
-    ranked: &[(Candidate, Option<&WholeFit>)],
-    noise_px: f64,
-    progress: &Reporter,
-) -> Result<(Vec<PairFit>, Vec<Vec<EffectKind>>), DiagnoseError> {
-    let fitted: Vec<(&Candidate, &WholeFit)> = ranked
-        .iter()
-        .filter(|(c, _)| c.effect != EffectKind::None)
-        .filter(|(c, _)| c.effect != EffectKind::Slip || c.delta_score < 0.0)
-        .filter_map(|(c, w)| w.map(|w| (c, w)))
-        .collect();
-    let rounds = pair_rounds(&fitted);
-    let best_single_px = fitted.iter().map(|(_, w)| w.rms_px()).fold(f64::INFINITY, f64::min);
-    let mut out: Vec<PairFit> = Vec::new();
-    let walked: Mutex<Vec<Vec<EffectKind>>> = Mutex::new(Vec::new());
-    for (n, round) in rounds.iter().enumerate() {
-        if reaches_noise(&out, noise_px) || round.is_empty() {
-            break;
-        }
-        progress.pairs_planned(n, round.len());
-        let one = |&(i, j): &(usize, usize), stop: &AtomicBool| -> PairFit {
-            let (a, b) = (fitted[i].1, fitted[j].1);
-            let ms = &ms.stopped_by(stop);
-            let mut fit = fit_pair(ms, levels, a, b, &mut |_, _| {});
-            // A pair that explains most of what the best effect alone leaves is walked again
-            // at once: a right pair's first walk often stops short of the noise (Reynolds
-            // drag beside pivot friction: 0.79 px, walked again 0.50 px against 0.49 px of
-            // noise), and walked it settles the recording, so the pairs after it are spared.
-            if fit.as_ref().is_ok_and(|p| {
-                explained_share(best_single_px, p.rms_px(), noise_px) >= MIN_EXPLAINED
-            }) {
-                let mut one = [(a.kind, b.kind, fit)];
-                let walk = walk_best_pair_again(again, ms, levels, &mut one, &|w| w.cost, noise_px);
-                let [(_, _, walked_fit)] = one;
-                fit = walked_fit;
-                match (walk, &fit) {
-                    (Ok(()), Ok(p)) => {
-                        walked.lock().unwrap_or_else(|e| e.into_inner()).push(p.kinds())
-                    }
-                    _ => fit = Err(LmError::Cancelled),
-                }
+/// The baseline and every candidate, best BIC first.
+pub(super) fn rank<'a>(
+    baseline: &'a WholeFit,
+    fits: &'a Fits,
+    dependence: f64,
+) -> Vec<(Candidate, Option<&'a WholeFit>)> {
+    let n = baseline.residual_count;
+    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
+    let none_score = score(baseline);
+    let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
+        Candidate {
+            effect: EffectKind::BASELINE,
+            rms_px: baseline.rms_px(),
+            score: none_score,
+            delta_score: 0.0,
+            strength: None,
+            error: None,
+            seconds: baseline.seconds,
+            stopped_at_segments: baseline.stopped_at,
+        },
+        Some(baseline),
+    )];
+    for (kind, r) in fits {
+        ranked.push(match r {
+            Ok(w) => {
+                let c = Candidate {
+                    effect: *kind,
+                    rms_px: w.rms_px(),
+                    score: score(w),
+                    delta_score: score(w) - none_score,
+                    strength: w.strength,
+                    error: None,
+                    seconds: w.seconds,
+                    stopped_at_segments: w.stopped_at,
+                };
+                (c, Some(w))
             }
-            let rms = fit.as_ref().map_or(f64::NAN, |w| w.rms_px());
-            progress.pair_fitted(a.kind, b.kind, rms);
-            (a.kind, b.kind, fit)
-        };
-        let is_settled =
-            |(_, _, r): &PairFit| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px));
-        out.extend(in_order_until(round, &one, &is_settled, ms.cancel));
-        if ms.cancel.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(DiagnoseError::Cancelled);
-        }
-        if settles(&out, noise_px) {
-            break;
-        }
+            Err(e) => {
+                let c = Candidate {
+                    effect: *kind,
+                    rms_px: f64::NAN,
+                    score: f64::INFINITY,
+                    delta_score: f64::INFINITY,
+                    strength: None,
+                    error: Some(e.to_string()),
+                    seconds: 0.0,
+                    stopped_at_segments: None,
+                };
+                (c, None)
+            }
+        });
     }
-    let walked = walked.into_inner().unwrap_or_else(|e| e.into_inner());
-    Ok((out, walked))
-}
-
-/// The pairs [`pairs_stage`] fits, as indices into `fitted`, in two rounds, most promising
-/// first: the best candidate with every other and the pairs among the best few first; the
-/// other leads only where no pair of the first round reaches the noise (a pair that does
-/// leaves nothing for another to explain).
-fn pair_rounds(fitted: &[(&Candidate, &WholeFit)]) -> [Vec<(usize, usize)>; 2] {
-    let improving: Vec<usize> = (0..fitted.len())
-        .filter(|&i| fitted[i].0.delta_score < 0.0 && fitted[i].1.stopped_at.is_none())
-        .collect();
-    let mut rounds: [Vec<(usize, usize)>; 2] = [Vec::new(), Vec::new()];
-    let mut add = |round: usize, i: usize, j: usize| {
-        let (i, j) = (i.min(j), i.max(j));
-        // A lens beside a pinhole is a pair too: a real camera has both (a pinhole 450 mm away
-        // with k1 = -0.05 from a third simulator: either alone leaves 1.2 px or more, the two
-        // reach the noise).
-        if i != j && !rounds.iter().any(|r| r.contains(&(i, j))) {
-            rounds[round].push((i, j));
-        }
-    };
-    let best: Vec<usize> = improving.iter().copied().take(PAIRED).collect();
-    for (n, &i) in best.iter().enumerate() {
-        for &j in &best[n + 1..] {
-            add(0, i, j);
-        }
-    }
-    for (n, &i) in improving.iter().take(LEADS).enumerate() {
-        for j in 0..fitted.len() {
-            add(n.min(1), i, j);
-        }
-    }
-    // Most promising first: by the two effects' BIC gains alone, summed (stable for ties).
-    let promise = |&(i, j): &(usize, usize)| fitted[i].0.delta_score + fitted[j].0.delta_score;
-    for round in &mut rounds {
-        round.sort_by(|a, b| promise(a).total_cmp(&promise(b)));
-    }
-    rounds
-}
-
-/// Forward selection from where the best single candidate ended: each other effect (slip
-/// aside, as in the pairs) added at its baseline strength to that candidate's solution and
-/// fitted over the whole run ([`refit_with`]), on every thread until one settles the recording.
-/// The pairs of [`pairs_stage`] are walked from the baseline's path, and where the best effect
-/// alone sits in a valley of its own they can end worse than it (Reynolds drag beside pivot
-/// friction: the pair at 2.37 px, Reynolds drag alone at 1.42). A fit that beats the same pair
-/// fitted before takes its place.
-fn added_to_best(
-    ms: &Shooting,
-    ranked: &[(Candidate, Option<&WholeFit>)],
-    pair_fits: &mut Vec<PairFit>,
-    noise_px: f64,
-) -> Result<(), DiagnoseError> {
-    let Some(lead) = ranked
-        .iter()
-        .filter(|(c, _)| c.effect != EffectKind::None && c.delta_score < 0.0)
-        .find_map(|(_, w)| w.filter(|w| w.stopped_at.is_none()))
-    else {
-        return Ok(());
-    };
-    let added: Vec<EffectKind> =
-        others_through_camera(ranked, false).into_iter().filter(|&k| k != lead.kind).collect();
-    let one = |&k: &EffectKind, stop: &AtomicBool| {
-        let zero = k.baseline_strength().unwrap_or(0.0);
-        (k, refit_with(&ms.stopped_by(stop), lead, k, zero))
-    };
-    let is_settled = |(_, r): &(EffectKind, Result<WholeFit, LmError>)| {
-        r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px))
-    };
-    let fits = in_order_until(&added, &one, &is_settled, ms.cancel);
-    if ms.cancel.load(std::sync::atomic::Ordering::Relaxed) {
-        return Err(DiagnoseError::Cancelled);
-    }
-    for (k, fit) in fits {
-        let Ok(fit) = fit else { continue };
-        let same = |(a, b, _): &PairFit| (*a, *b) == (lead.kind, k) || (*a, *b) == (k, lead.kind);
-        match pair_fits.iter_mut().find(|p| same(p)) {
-            Some((_, _, r)) if r.as_ref().is_ok_and(|w| w.cost <= fit.cost) => {}
-            Some(p) => *p = (lead.kind, k, Ok(fit)),
-            None => pair_fits.push((lead.kind, k, Ok(fit))),
-        }
-    }
-    Ok(())
-}
-
-/// Whether a pair fitted has settled the recording ([`settled`]): then the pairs still
-/// planned are not fitted (a pinhole beside translational drag reached 0.499 px against
-/// 0.495 px of noise as the first pair; the 18 others fitted after it took 100 s of CPU).
-fn settles(pair_fits: &[PairFit], noise_px: f64) -> bool {
-    pair_fits.iter().any(|(_, _, r)| r.as_ref().is_ok_and(|w| settled(w.rms_px(), noise_px)))
+    ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
+    ranked
 }

@@ -5,7 +5,7 @@
 //! paper names "image distortions"). The data decide the sign: the scan and the search go both
 //! ways.
 
-use super::{Descriptor, Role, Terms, Words, log_spaced, no_physics};
+use super::{USUAL_IN_PLAN, Descriptor, Role, Terms, Words, log_spaced, no_physics};
 
 pub struct Effect;
 impl Terms for Effect {
@@ -47,4 +47,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     },
     blind: super::no_blind,
     words,
+    plan: USUAL_IN_PLAN,
 };

@@ -6,7 +6,7 @@
 //! films a 40 mm ring with a normal lens; the paper names perspective as one of the two causes
 //! of its 5% error. The search goes from orthographic down to 100 mm (2.5 ring diameters).
 
-use super::{
+use super::{USUAL_IN_PLAN, InPlan, 
     CameraNumbers, Descriptor, Extra, Role, Step, Terms, Words, never_held, no_physics,
     usual_scan,
 };
@@ -107,4 +107,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: |_, _| (0.0, 10.0),
     blind: super::no_blind,
     words,
+    plan: InPlan { header_camera: true, ..USUAL_IN_PLAN },
 };

@@ -305,9 +305,50 @@ pub struct Descriptor {
     pub blind: fn((f64, f64), f64, bool) -> Vec<f64>,
     /// Why the mismatch's signature points to the effect, in words.
     pub words: fn(&Words) -> String,
+    /// What the diagnosis's plan needs to know of it beyond its role.
+    pub plan: InPlan,
 }
 
+/// What the diagnosis's plan (`analysis/diagnose/plan.rs`) knows of an effect beyond its
+/// [`Role`]: no pass of the plan names an effect, it asks these.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InPlan {
+    /// Its runs cost the most of any (a sliding contact's switches are found and run anew at
+    /// each): fitted first among the candidates, paired and added to another's solution only
+    /// where it improved alone, not scanned from the baseline's solution, given up through a
+    /// camera where its path stopped, and fitted through a leading camera by a pass of its own
+    /// (through the wrong camera it cannot improve alone).
+    pub costly: bool,
+    /// Its run can begin in two ways (`SlipStart`): its first stage is fitted both ways and
+    /// goes on with the better, and a pair with it keeps the way its own fit chose.
+    pub two_starts: bool,
+    /// It stands in for the camera a header can give (its distance): where the header gives
+    /// it, every model uses that camera and this effect is no suspect.
+    pub header_camera: bool,
+    /// The extra (an index into `extras`) that shapes the effect's law away from the paper's:
+    /// where it fitted alone away from its start, a pair it leads is also walked with the
+    /// other effect leading (alone, that shape can imitate part of another effect).
+    pub shape: Option<usize>,
+}
+
+/// An effect the plan treats as any other.
+pub const USUAL_IN_PLAN: InPlan =
+    InPlan { costly: false, two_starts: false, header_camera: false, shape: None };
+
 impl EffectKind {
+    /// The paper's model alone: the kind with no role (the baseline of every comparison).
+    pub const BASELINE: EffectKind = EffectKind::None;
+
+    /// Whether it is the paper's model alone ([`EffectKind::BASELINE`]).
+    pub fn is_baseline(self) -> bool {
+        self.descriptor().role == Role::Nothing
+    }
+
+    /// What the diagnosis's plan knows of it ([`InPlan`]).
+    pub fn in_plan(self) -> InPlan {
+        self.descriptor().plan
+    }
+
     pub fn name(self) -> &'static str {
         self.descriptor().name
     }

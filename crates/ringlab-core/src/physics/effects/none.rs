@@ -1,7 +1,7 @@
 //! `none`: the recording agrees with the paper's model. The diagnosis's baseline, listed with
 //! the effects so that a table of candidates and a concealed-effect family can name it.
 
-use super::{
+use super::{USUAL_IN_PLAN, 
     Descriptor, Role, Terms, from_zero, no_camera, no_physics, no_words, usual_search,
 };
 
@@ -25,4 +25,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words: no_words,
+    plan: USUAL_IN_PLAN,
 };

@@ -5,7 +5,7 @@
 //! about `(2/3) mu a F_N`; `mu` = 0.4 and `a` from 0.05 to 0.5 mm under the 1 mm wall of the
 //! paper's 20.66 mm ring give 0.0007 to 0.007.
 
-use super::{
+use super::{USUAL_IN_PLAN, 
     At, Descriptor, Role, Terms, Words, from_zero, no_camera, non_negative, usual_scan,
     usual_search,
 };
@@ -64,4 +64,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words,
+    plan: USUAL_IN_PLAN,
 };

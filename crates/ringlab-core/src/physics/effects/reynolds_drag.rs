@@ -6,7 +6,7 @@
 //! Realistic `n` in [0.25, 0.75]: laminar skin friction gives `n` = 1/2 (the paper, section
 //! IV). It rescales eq. 5 in the hot path (`Model::drag_coefficients`), no cold-path term.
 
-use super::{
+use super::{USUAL_IN_PLAN, InPlan, 
     ApplyAt, CameraNumbers, Descriptor, Effects, Extra, Role, Step, Terms, Words, from_zero,
     never_held, no_camera, non_negative, usual_scan, usual_search,
 };
@@ -147,4 +147,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words,
+    plan: InPlan { shape: Some(0), ..USUAL_IN_PLAN },
 };

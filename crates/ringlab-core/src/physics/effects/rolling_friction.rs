@@ -6,7 +6,7 @@
 //! and glass. (The closed-form normal force of `losses.rs` needs `k` below half of `|r_G|`,
 //! `Model::check_effects`.)
 
-use super::{
+use super::{USUAL_IN_PLAN, 
     At, Descriptor, Role, Terms, Words, from_zero, no_camera, non_negative, usual_scan,
     usual_search,
 };
@@ -65,4 +65,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words,
+    plan: USUAL_IN_PLAN,
 };

@@ -8,7 +8,7 @@
 //! limit `mu_max`, `physics/painleve.rs`), so no strength is the baseline. Its fit adds the slip
 //! velocity where the fit begins (a slide can be in progress at the first frame fitted).
 
-use super::{
+use super::{USUAL_IN_PLAN, InPlan, 
     ApplyAt, CameraNumbers, Descriptor, Effects, Extra, Role, Step, Terms, Words, from_zero,
     log_spaced, no_camera, non_negative,
 };
@@ -153,4 +153,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: |(lo, _), mu_max| (0.25 * lo, 0.99 * mu_max),
     blind,
     words,
+    plan: InPlan { costly: true, two_starts: true, ..USUAL_IN_PLAN },
 };

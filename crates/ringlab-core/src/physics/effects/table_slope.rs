@@ -10,7 +10,7 @@
 //! of mass (`Terms::force_at_centre`), the same for the rolling and the sliding contact; the
 //! camera still looks along the table's normal.
 
-use super::{
+use super::{USUAL_IN_PLAN, 
     ApplyAt, At, CameraNumbers, Descriptor, Effects, Extra, Role, Step, Terms, Words, from_zero,
     never_held, no_camera, non_negative, usual_scan, usual_search,
 };
@@ -115,4 +115,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words,
+    plan: USUAL_IN_PLAN,
 };

@@ -4,7 +4,7 @@
 //! Realistic `kR` in [0.01, 0.1]: for the paper's 18 g steel ring `k = rho_air C_D A / (2 m)`
 //! gives 6e-4, invisible; light rings (plastic, thin aluminium) reach 0.01 to 0.1.
 
-use super::{
+use super::{USUAL_IN_PLAN, 
     At, Descriptor, Role, Terms, Words, from_zero, no_camera, non_negative, usual_scan,
     usual_search,
 };
@@ -56,4 +56,5 @@ pub const DESCRIPTOR: Descriptor = Descriptor {
     search: usual_search,
     blind: super::no_blind,
     words,
+    plan: USUAL_IN_PLAN,
 };
