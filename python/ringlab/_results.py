@@ -168,6 +168,16 @@ class PairCandidate(_Result):
 
 
 @dataclasses.dataclass(frozen=True)
+class NamedShare(_Result):
+    """A named effect's share of the named model's improvement on the paper's model: the part
+    (0 to 1) of the cost removed that comes back without it, and the misfit without it (px)."""
+
+    name: str
+    share: Optional[float]
+    rms_without_px: Optional[float]
+
+
+@dataclasses.dataclass(frozen=True)
 class NoiseCorrelation(_Result):
     """The tracker's noise correlated in time: the tracks' own reading (px), the correlation
     from one frame to the next, the lag where it has died out, the baseline's RMS (px)."""
@@ -231,6 +241,7 @@ class Diagnosis(_Result):
     after: ModelFit
     candidates: List[Candidate]
     pairs: List[PairCandidate]
+    shares: List[NamedShare]
     explanation: str
     compute_seconds: float
     noise_px: float

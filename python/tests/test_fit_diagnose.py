@@ -80,6 +80,8 @@ def test_result_objects_are_typed():
     assert d.after.params["C1"] > 0
     assert isinstance(d.mismatch, ringlab.MismatchWindow)
     assert all(isinstance(p, ringlab.PairCandidate) for p in d.pairs)
+    assert sorted(s.name for s in d.shares) == sorted(d.left_out_all)
+    assert all(isinstance(s, ringlab.NamedShare) and 0 < s.share <= 1 for s in d.shares)
     g = diagnosis_of("glitches")
     assert len(g.glitch_marks) == g.glitches and isinstance(g.glitch_marks[0], ringlab.Glitch)
     assert g.glitch_marks[0].kind in ("outlier", "swapped")

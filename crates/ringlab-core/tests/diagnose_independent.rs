@@ -39,9 +39,23 @@ fn a_lens_off_centre_is_named() {
     check("lens-off-centre");
 }
 
+/// Both are named, and each one's share of the improvement is real: without it the misfit
+/// comes back well above what the pair leaves.
 #[test]
 fn two_effects_are_both_named() {
-    check("two-effects");
+    let d = check("two-effects");
+    let named = d.finding.named();
+    assert_eq!(d.shares.len(), named.len(), "a share for each named effect");
+    for s in &d.shares {
+        assert!(named.contains(&s.effect), "{:?} has a share but is not named", s.effect);
+        assert!(s.share > 0.05 && s.share <= 1.0 + 1e-9, "{:?}: share {}", s.effect, s.share);
+        assert!(
+            s.rms_without_px > 2.0 * d.after.rms_px,
+            "{:?}: {} px without it",
+            s.effect,
+            s.rms_without_px
+        );
+    }
 }
 
 #[test]

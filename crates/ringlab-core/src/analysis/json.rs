@@ -30,6 +30,8 @@ pub struct DiagnoseJson {
     pub candidates: Vec<CandidateJson>,
     /// The pairs of the forward selection, best first (empty when none were tried).
     pub pairs: Vec<PairJson>,
+    /// Each named effect's share of the improvement on the baseline (empty unless named).
+    pub shares: Vec<ShareJson>,
     pub explanation: String,
     pub compute_seconds: f64,
     pub noise_px: f64,
@@ -68,6 +70,15 @@ pub struct PairJson {
     pub delta_score: Option<f64>,
     pub strengths: [Option<f64>; 2],
     pub error: Option<String>,
+}
+
+/// A named effect's share: the part of the cost the named model removes that comes back
+/// without it, and the misfit without it (px rms).
+#[derive(Serialize, Debug)]
+pub struct ShareJson {
+    pub name: &'static str,
+    pub share: Option<f64>,
+    pub rms_without_px: Option<f64>,
 }
 
 #[derive(Serialize, Debug)]
@@ -226,6 +237,15 @@ impl DiagnoseJson {
                     delta_score: finite(p.delta_score),
                     strengths: p.strengths.map(|s| finite(s.0)),
                     error: p.error.clone(),
+                })
+                .collect(),
+            shares: d
+                .shares
+                .iter()
+                .map(|s| ShareJson {
+                    name: s.effect.name(),
+                    share: finite(s.share),
+                    rms_without_px: finite(s.rms_without_px),
                 })
                 .collect(),
             explanation: d.explanation.clone(),
