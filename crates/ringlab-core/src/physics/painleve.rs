@@ -16,6 +16,25 @@ pub const PAINLEVE_REASON: &str = "is too large for this body: sliding friction 
 /// `mu z_C |kappa| <= (3/4) I_1 + kappa^2 - |kappa| k_r` (`k_r` the rolling-friction arm).
 pub fn mu_limit(b: &Body, k_r: f64) -> f64 {
     let (a, r, i1) = (0.5 * b.h, b.r, b.inertia.x);
+    // Every run of a slip model checks it (`Model::check_effects`), and a diagnosis makes
+    // thousands of runs of one body: the last answer kept per thread.
+    let key = [a, r, i1, k_r].map(f64::to_bits);
+    LAST.with(|last| match last.get() {
+        Some((k, limit)) if k == key => limit,
+        _ => {
+            let limit = scan(a, r, i1, k_r);
+            last.set(Some((key, limit)));
+            limit
+        }
+    })
+}
+
+thread_local! {
+    static LAST: std::cell::Cell<Option<([u64; 4], f64)>> = const { std::cell::Cell::new(None) };
+}
+
+/// [`mu_limit`] by its scan over the tilt.
+fn scan(a: f64, r: f64, i1: f64, k_r: f64) -> f64 {
     let mut limit = f64::INFINITY;
     let n = 2000;
     for k in 0..=n {
