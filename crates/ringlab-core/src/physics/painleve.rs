@@ -48,3 +48,22 @@ fn scan(a: f64, r: f64, i1: f64, k_r: f64) -> f64 {
     }
     limit
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::body::Shape;
+
+    #[test]
+    fn the_kept_limit_is_the_scan_of_the_body_asked_for() {
+        let ring = Body::new(Shape::Ring, 20.66, 18.0, 1.0).expect("a ring");
+        let disk = Body::new(Shape::Disk, 20.0, 4.0, 1.0).expect("a disk");
+        let scan_of = |b: &Body, k_r: f64| scan(0.5 * b.h, b.r, b.inertia.x, k_r);
+        // Alternating bodies and arms: each answer is its own scan's, not the last one kept.
+        for (b, k_r) in [(&ring, 0.0), (&ring, 0.0), (&disk, 0.0), (&ring, 0.01), (&ring, 0.0)] {
+            assert_eq!(mu_limit(b, k_r), scan_of(b, k_r));
+        }
+        assert_ne!(scan_of(&ring, 0.0), scan_of(&disk, 0.0));
+        assert_ne!(scan_of(&ring, 0.0), scan_of(&ring, 0.01));
+    }
+}
