@@ -411,3 +411,32 @@ fn a_start_held_rolling_rolls_until_the_cone_is_regained_and_then_slides() {
         .hypot(s_held.final_sample.y_a - s_cone.final_sample.y_a);
     assert!(d > 0.1, "the held and the cone start end {d} apart");
 }
+
+#[test]
+fn position_samples_are_the_full_samples_where_they_are() {
+    // A fit's runs sample positions only (`Simulation::positions_only`): the same run, the same
+    // state, top centre and contact to the bit, rolling and sliding (mu 0.4 from the paper's
+    // start slides at the launch and where the ring lifts off).
+    let model = with_mu(paper::ring_model(paper::C_RING), 0.4);
+    let opts = RunOptions { sample_dt: Some(0.05), ..Default::default() };
+    let samples = |positions_only: bool| {
+        let mut sim =
+            Simulation::new(model.clone(), &paper::initial(), opts.clone()).expect("runs");
+        if positions_only {
+            sim.positions_only();
+        }
+        let mut out = Vec::new();
+        let summary = sim.run(&mut |s: &Sample| out.push(*s));
+        (summary, out)
+    };
+    let ((full_run, full), (light_run, light)) = (samples(false), samples(true));
+    assert_eq!(full_run.stats.steps, light_run.stats.steps);
+    assert_eq!(full.len(), light.len());
+    assert!(full.iter().filter(|s| s.sliding).count() > 10, "it must slide");
+    for (a, b) in full.iter().zip(&light) {
+        assert_eq!((a.t, a.y, a.x_a, a.y_a, a.z_c), (b.t, b.y, b.x_a, b.y_a, b.z_c));
+        assert_eq!(a.sliding, b.sliding, "t = {}", a.t);
+    }
+    // What a position sample does not carry is not made up.
+    assert!(light[light.len() / 2].f_n.is_nan() && light[light.len() / 2].energy.is_nan());
+}

@@ -140,6 +140,20 @@ impl Contact {
         }
     }
 
+    /// The position sample at `t` within the last step ([`Sample::position`]).
+    pub fn position_at(&mut self, t: f64) -> Sample {
+        match self {
+            Contact::Rolling(s) => {
+                let y = s.dense(t);
+                Sample::position(&s.system, t, &y, false)
+            }
+            Contact::Sliding(s) => {
+                let y = head(&s.dense(t));
+                Sample::position(&s.system.model, t, &y, true)
+            }
+        }
+    }
+
     /// The sample at the current time.
     pub fn sample_now(&self) -> Sample {
         match self {

@@ -63,6 +63,35 @@ impl Sample {
         Sample::with_dynamics(model, t, y, &d, model.energy(y))
     }
 
+    /// A sample of where the body is and nothing more: its state, the top centre A and the
+    /// centre's height; the forces, energy, speeds and Reynolds number are NaN. What a fit's
+    /// prediction projects (`analysis::fit::shooting`), without a force evaluation per frame.
+    pub fn position(model: &Model, t: f64, y: &StateVec, sliding: bool) -> Sample {
+        let b = &model.body;
+        let (st, ct) = sin_cos(y[ix::THETA]);
+        let (x_a, y_a) = top_centre_sc(b, y, (st, ct), sin_cos(y[ix::PHI]));
+        Sample {
+            t,
+            y: *y,
+            z_c: 0.5 * b.h * st + b.r * ct,
+            x_a,
+            y_a,
+            x_p: f64::NAN,
+            y_p: f64::NAN,
+            vx_a: f64::NAN,
+            vy_a: f64::NAN,
+            v_p: f64::NAN,
+            f_1: f64::NAN,
+            f_f: f64::NAN,
+            f_n: f64::NAN,
+            energy: f64::NAN,
+            speed_c: f64::NAN,
+            reynolds: f64::NAN,
+            sliding,
+            slip_speed: f64::NAN,
+        }
+    }
+
     /// A sample of a sliding state (the first eight numbers of `y` are as while rolling).
     pub fn sliding(model: &SlidingModel, t: f64, y: &SlideVec) -> Sample {
         let d = model.dynamics(y);

@@ -93,7 +93,9 @@ impl WorkBudget {
 pub const STEPS_PER_FRAME: u64 = 100;
 
 /// The model's samples at the frames `range` from state `y0` at the first of them: one per
-/// frame, the final pose repeated after the run's end. None when the run cannot start.
+/// frame, the final pose repeated after the run's end. None when the run cannot start. The
+/// samples before the end carry positions only (`Sample::position`: the state, the top
+/// centre, whether the contact slides).
 pub fn predict_samples(
     model: &Model,
     run: &RunOptions,
@@ -126,6 +128,8 @@ pub struct Prediction {
     /// Whether the run ended on its own (at rest, flat, on the other rim) before the
     /// segment's end: its last frames then show its end state, still.
     pub ended_early: bool,
+    /// Whether the contact slid anywhere in the run (slip effect on).
+    pub slid: bool,
 }
 
 /// As [`predict_samples`], with the integration steps it took.
@@ -149,8 +153,13 @@ pub fn predict_with_steps(
     range: Range<usize>,
     choice: StepChoice,
 ) -> Prediction {
-    let failed =
-        |steps| Prediction { samples: None, steps, step_ends: Vec::new(), ended_early: false };
+    let failed = |steps| Prediction {
+        samples: None,
+        steps,
+        step_ends: Vec::new(),
+        ended_early: false,
+        slid: false,
+    };
     let t0 = range.start as f64 * dt;
     let n = range.len();
     let opts = RunOptions {
@@ -163,6 +172,7 @@ pub fn predict_with_steps(
     let Ok(mut sim) = Simulation::from_state(model.clone(), t0, *y0, opts) else {
         return failed(0);
     };
+    sim.positions_only();
     match choice {
         StepChoice::Adaptive => {}
         StepChoice::Keep => sim.keep_steps(),
@@ -202,6 +212,7 @@ pub fn predict_with_steps(
         steps: summary.stats.steps,
         step_ends: summary.step_ends,
         ended_early: summary.end_reason.is_natural(),
+        slid: !summary.sliding.is_empty(),
     }
 }
 
@@ -265,10 +276,10 @@ impl<'a> Shooting<'a> {
         let (phi, theta, psi) = (y[ix::PHI], y[ix::THETA], y[ix::PSI]);
         if camera.sees_height() {
             let m = geometry.marks3(a, phi, theta, psi);
-            return m.map(|p| camera.to_px3(p[0] * k, p[1] * k, p[2] * k));
+            return camera.to_px3_each(m.map(|p| [p[0] * k, p[1] * k, p[2] * k]));
         }
         let m = geometry.marks(a, phi, theta, psi);
-        m.map(|p| camera.to_px(p[0] * k, p[1] * k))
+        camera.to_px3_each(m.map(|p| [p[0] * k, p[1] * k, 0.0]))
     }
 
     /// Decides whether the budget is spent, before a batch of parallel predictions
@@ -302,6 +313,7 @@ impl<'a> Shooting<'a> {
                 steps: 0,
                 step_ends: Vec::new(),
                 ended_early: false,
+                slid: false,
             };
         }
         let model = segment_model(model, s);
@@ -497,9 +509,10 @@ impl Shooting<'_> {
         let step_ends: Arc<[f64]> = Arc::from(run.step_ends);
         // A rolling run that reached the segment's end: the integrated columns by a cheaper
         // formula along its steps (`dp5_along`), against that formula's own run at the point.
-        // A slip run switches contact and an early end freezes frames, which those steps do
-        // not carry: their columns follow with DOP853 as before.
-        let along = (cheap && model.effects.slip_mu.is_none() && !run.ended_early)
+        // A run that slid switches contact and an early end freezes frames, which those steps
+        // do not carry: their columns follow with DOP853 as before. A run of the slip effect
+        // that rolled throughout is the rolling model's run: along its steps too.
+        let along = (cheap && !run.slid && !run.ended_early)
             .then(|| self.run_along(&model, s, &y0, &step_ends))
             .flatten();
         let by_along = along.is_some();

@@ -157,6 +157,8 @@ pub struct Simulation {
     switches_here: (f64, u32),
     stick_residual: f64,
     steps: Steps,
+    /// Whether the grid's samples carry positions only ([`Simulation::positions_only`]).
+    positions_only: bool,
 }
 
 /// The sliding state at a run's start from rolling state `y0`: its slip velocity is the
@@ -289,6 +291,7 @@ impl Simulation {
             switches_here: (t0, 0),
             stick_residual: 0.0,
             steps: Steps::Adaptive,
+            positions_only: false,
             opts,
         };
         sim.margins = sim.validity_margins(&s0);
@@ -349,6 +352,13 @@ impl Simulation {
     /// hold and beyond the last.
     pub fn follow_steps(&mut self, ends: Arc<[f64]>) {
         self.steps = Steps::Follow { ends, next: 0 };
+    }
+
+    /// The grid's samples with positions only ([`Sample::position`]): a fit's prediction
+    /// projects nothing else, and a full sample costs a force evaluation. The end's sample,
+    /// the turning points and the validity checks stay whole.
+    pub fn positions_only(&mut self) {
+        self.positions_only = true;
     }
 
     fn validity_margins(&self, s: &Sample) -> (f64, f64) {
@@ -524,7 +534,12 @@ impl Simulation {
                 if ts > t_limit {
                     break;
                 }
-                sink(&self.contact.sample_at(ts));
+                let sample = if self.positions_only {
+                    self.contact.position_at(ts)
+                } else {
+                    self.contact.sample_at(ts)
+                };
+                sink(&sample);
                 self.sample_index += 1;
             }
         }
