@@ -286,16 +286,17 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     fn attempt(&mut self, h: f64) -> ([f64; N], f64) {
         let t = self.t;
         let y = self.y;
-        for s in 1..12 {
-            let ys = combine(&y, h, &A[s][..s], &self.k);
-            let mut ks = [0.0; N];
-            self.system.rhs(t + C[s] * h, &ys, &mut ks);
-            self.k[s] = ks;
+        // Stage by stage with its row of the tableau a constant: the combinations then skip
+        // the tableau's zeros at compile time and keep the stages in registers.
+        macro_rules! stages {
+            ($($s:literal)*) => {$(
+                let ys = combine(&y, h, &A[$s][..$s], &self.k);
+                self.system.rhs(t + C[$s] * h, &ys, &mut self.k[$s]);
+            )*};
         }
+        stages!(1 2 3 4 5 6 7 8 9 10 11);
         let y_new = combine(&y, h, &B, &self.k);
-        let mut f_new = [0.0; N];
-        self.system.rhs(t + h, &y_new, &mut f_new);
-        self.k[12] = f_new;
+        self.system.rhs(t + h, &y_new, &mut self.k[12]);
         self.stats.rhs_evaluations += 12;
 
         let e5 = combine(&[0.0; N], 1.0, &E5, &self.k);
@@ -321,12 +322,13 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let h = self.t - self.t_prev;
         let y0 = self.y_prev;
-        for s in 13..16 {
-            let ys = combine(&y0, h, &A[s][..s], &self.k);
-            let mut ks = [0.0; N];
-            self.system.rhs(self.t_prev + C[s] * h, &ys, &mut ks);
-            self.k[s] = ks;
+        macro_rules! stages {
+            ($($s:literal)*) => {$(
+                let ys = combine(&y0, h, &A[$s][..$s], &self.k);
+                self.system.rhs(self.t_prev + C[$s] * h, &ys, &mut self.k[$s]);
+            )*};
         }
+        stages!(13 14 15);
         self.stats.rhs_evaluations += 3;
         for i in 0..N {
             let dy = self.y[i] - y0[i];
@@ -334,9 +336,12 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             self.dense[1][i] = h * self.k[0][i] - dy;
             self.dense[2][i] = 2.0 * dy - h * (self.k[12][i] + self.k[0][i]);
         }
-        for r in 0..4 {
-            self.dense[3 + r] = combine(&[0.0; N], h, &D[r], &self.k);
+        macro_rules! rows {
+            ($($r:literal)*) => {$(
+                self.dense[3 + $r] = combine(&[0.0; N], h, &D[$r], &self.k);
+            )*};
         }
+        rows!(0 1 2 3);
         self.dense_ready = true;
     }
 
