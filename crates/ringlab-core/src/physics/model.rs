@@ -176,8 +176,8 @@ impl Model {
         self.dynamics_with_losses(p.f, p.tau, w, &p.om_x_vc, &p.v_c, (st, ct), heading)
     }
 
-    /// `omega'` alone: what the right-hand side needs, without the contact force that
-    /// [`Model::dynamics_sc`] adds (the same numbers, bit for bit).
+    /// `omega'` and `v_C`: what the right-hand side needs, without the contact force that
+    /// [`Model::dynamics_sc`] adds.
     #[inline(always)]
     fn omega_dot_sc(
         &self,
@@ -221,19 +221,18 @@ impl Model {
     /// Total energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` (m = 1).
     pub fn energy(&self, y: &StateVec) -> f64 {
         let b = &self.body;
-        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = sin_cos(y[ix::THETA]);
+        self.kinetic_energy(y) + self.g * (0.5 * b.h * st + b.r * ct)
+    }
+
+    /// Kinetic energy only (no trigonometry: the run tests it after every step).
+    pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
+        let b = &self.body;
+        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let v_c = Vector3::new(w.y * b.r - w.z * b.h / 2.0, -w.x * b.r, w.x * b.h / 2.0);
         let rot =
             0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
-        rot + 0.5 * v_c.norm_squared() + self.g * (0.5 * b.h * st + b.r * ct)
-    }
-
-    /// Kinetic energy only.
-    pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
-        let b = &self.body;
-        let (st, ct) = sin_cos(y[ix::THETA]);
-        self.energy(y) - self.g * (0.5 * b.h * st + b.r * ct)
+        rot + 0.5 * v_c.norm_squared()
     }
 }
 
@@ -265,7 +264,7 @@ impl Dynamics {
 }
 
 impl System<STATE_LEN> for Model {
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, _t: f64, y: &StateVec, dy: &mut StateVec) {
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = sin_cos(y[ix::THETA]);
@@ -360,6 +359,45 @@ impl Initial {
             psi_dot: y[ix::W2] - y[ix::W3] * st / ct,
             x_c: y[ix::X],
             y_c: y[ix::Y],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::paper;
+
+    /// A small deterministic generator (no dependency): uniform in [lo, hi).
+    fn uniform(seed: &mut u64, lo: f64, hi: f64) -> f64 {
+        *seed =
+            seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        lo + (hi - lo) * ((*seed >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    #[test]
+    fn the_right_hand_side_gives_the_dynamics_numbers_bit_for_bit() {
+        let mut reynolds = paper::ring_model(paper::C_RING);
+        reynolds.effects.reynolds_drag =
+            Some(ReynoldsDrag { re_ref: 3.0e3, exponent: 0.5, max_factor: 4.0, rim_share: 0.3 });
+        let mut rolling = paper::ring_model(paper::C_RING);
+        rolling.effects.rolling_friction = 0.01;
+        let mut seed = 7;
+        let models = [paper::ring_model(paper::C_RING), paper::ring_model(paper::C_DISK_LIKE)];
+        for model in models.into_iter().chain([reynolds, rolling]) {
+            for _ in 0..20_000 {
+                let mut y = [0.0; STATE_LEN];
+                for v in &mut y {
+                    *v = uniform(&mut seed, -6.0, 6.0);
+                }
+                y[ix::THETA] = uniform(&mut seed, -0.2, 1.56);
+                let mut dy = [0.0; STATE_LEN];
+                model.rhs(0.0, &y, &mut dy);
+                let d = model.dynamics_of(&y);
+                for (i, v) in [d.omega_dot.x, d.omega_dot.y, d.omega_dot.z].iter().enumerate() {
+                    assert_eq!(dy[ix::W1 + i].to_bits(), v.to_bits(), "w{} at {y:?}", i + 1);
+                }
+            }
         }
     }
 }

@@ -60,10 +60,10 @@ const MAX_FACTOR: f64 = 6.0;
 /// for the step size (Hairer's choice for DOP853).
 const ERROR_EXPONENT: f64 = -1.0 / 8.0;
 
-/// `y + h sum_j c_j k_j`, skipping the tableau's zeros; the inner loop runs over the state
-/// (axpy form), which the compiler vectorises.
+/// `sum_j c_j k_j`, skipping the tableau's zeros (at compile time where `c` is a constant row);
+/// the inner loop runs over the state (axpy form), which the compiler vectorises.
 #[inline(always)]
-fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
+fn weighted_sum<const N: usize>(c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
     let mut acc = [0.0; N];
     for (cj, kj) in c.iter().zip(k.iter()) {
         if *cj != 0.0 {
@@ -72,6 +72,13 @@ fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) 
             }
         }
     }
+    acc
+}
+
+/// `y + h sum_j c_j k_j`.
+#[inline(always)]
+fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
+    let acc = weighted_sum(c, k);
     let mut out = *y;
     for i in 0..N {
         out[i] += h * acc[i];
@@ -299,8 +306,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         self.system.rhs(t + h, &y_new, &mut self.k[12]);
         self.stats.rhs_evaluations += 12;
 
-        let e5 = combine(&[0.0; N], 1.0, &E5, &self.k);
-        let e3 = combine(&[0.0; N], 1.0, &E3, &self.k);
+        let e5 = weighted_sum(&E5, &self.k);
+        let e3 = weighted_sum(&E3, &self.k);
         let (mut err5, mut err3) = (0.0, 0.0);
         for i in 0..N {
             let sc = self.tol.atol + self.tol.rtol * y[i].abs().max(y_new[i].abs());
@@ -338,7 +345,10 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         macro_rules! rows {
             ($($r:literal)*) => {$(
-                self.dense[3 + $r] = combine(&[0.0; N], h, &D[$r], &self.k);
+                let acc = weighted_sum(&D[$r], &self.k);
+                for i in 0..N {
+                    self.dense[3 + $r][i] = h * acc[i];
+                }
             )*};
         }
         rows!(0 1 2 3);
