@@ -53,7 +53,7 @@ pub fn check_paper_ring(case: &Case) -> Result<()> {
     if !(same_model && same_start) {
         bail!(
             "--scipy times the paper's ring only (the reference script has its equations and \
-             start written in); case '{}' differs",
+             start written in): case '{}' with the given flags is another",
             case.name
         );
     }
