@@ -1,15 +1,16 @@
 //! `ringlab bench`: the speed figures of the physics core (`docs/speed.md`), measured on this
 //! machine.
 
+use super::bench_scipy::{self, ScipyFigures};
 use super::case_args::CaseArgs;
 use anyhow::Result;
 use clap::Args;
 use ringlab::analysis::sweep::{Axis, run_sweep};
 use ringlab::physics::effects::apply;
-use ringlab::physics::integrator::{System, Tolerances};
-use ringlab::physics::{EffectKind, Model, RunOptions, Sample, Simulation};
+use ringlab::physics::integrator::Tolerances;
+use ringlab::physics::speed::{self, fastest, median};
+use ringlab::physics::{EffectKind, Model, RunOptions, Sample};
 use serde::Serialize;
-use std::hint::black_box;
 use std::time::Instant;
 
 #[derive(Args, Debug)]
@@ -50,13 +51,28 @@ pub struct BenchArgs {
     /// With --recording: leave out the fit
     #[arg(long)]
     pub skip_fit: bool,
+    /// Time scipy's DOP853 on the same run through this Python (it needs numpy and scipy) and
+    /// print ringlab's speed-up over it
+    #[arg(long, value_name = "PYTHON")]
+    pub scipy: Option<std::path::PathBuf>,
+    /// The reference script for --scipy
+    #[arg(long, value_name = "FILE.py", default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/bench/scipy_vs_ringlab.py"))]
+    pub scipy_script: std::path::PathBuf,
+    /// With --scipy: scipy's solves (about 5 s each; the fastest is reported)
+    #[arg(long, default_value_t = 1)]
+    pub scipy_repeats: usize,
 }
 
 #[derive(Serialize, Debug)]
 struct BenchReport {
     case: String,
     rhs_ns: f64,
+    /// One sine and cosine of an angle ([`ringlab::physics::trig::sin_cos`]): two of them are
+    /// the right-hand side's floor.
+    sin_cos_ns: f64,
     run_to_rest_ms: f64,
+    /// The fastest of the runs (the median is `run_to_rest_ms`).
+    run_to_rest_fastest_ms: f64,
     run_to_rest_with_events_ms: f64,
     run_with_samples_ms: f64,
     run_t_end: f64,
@@ -72,6 +88,11 @@ struct BenchReport {
     sweep_retrograde: Option<usize>,
     /// The run to the end with each effect on, same tolerances, no samples or validity.
     effects: Vec<EffectBench>,
+    /// scipy's DOP853 on the same run (`--scipy`).
+    scipy: Option<ScipyFigures>,
+    /// scipy's wall time over ringlab's median, and fastest over fastest.
+    scipy_ratio: Option<f64>,
+    scipy_ratio_fastest: Option<f64>,
 }
 
 #[derive(Serialize, Debug)]
@@ -91,11 +112,6 @@ struct EffectBench {
     sliding_intervals: usize,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
-
 pub fn run(args: &BenchArgs) -> Result<()> {
     if args.track {
         return super::bench_track::run(&args.film, args.json);
@@ -107,48 +123,33 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         });
     }
     let case = args.case.case()?;
+    if args.scipy.is_some() {
+        bench_scipy::check_paper_ring(&case)?;
+    }
     let model = case.model.clone();
     let y0 = case.initial.to_state();
 
     // Right-hand side: evaluations on slightly varied states so nothing is hoisted.
-    let n = 2_000_000;
-    let mut dy = [0.0; 8];
-    let mut y = y0;
-    let clock = Instant::now();
-    for i in 0..n {
-        y[1] = y0[1] + 1e-9 * (i & 1023) as f64;
-        model.rhs(0.0, black_box(&y), &mut dy);
-        black_box(&dy);
-    }
-    let rhs_ns = clock.elapsed().as_secs_f64() * 1e9 / n as f64;
+    let rhs_ns = speed::rhs_ns(&model, &y0, 2_000_000);
+    let sin_cos_ns = speed::sin_cos_ns(2_000_000);
 
     let tol = Tolerances { rtol: 1e-10, atol: 1e-12 };
     let bare = RunOptions { tol, sample_dt: None, track_validity: false, ..case.opts.clone() };
-    let time_runs = |opts: &RunOptions| -> Result<(f64, ringlab::physics::RunSummary)> {
-        let mut times = Vec::new();
-        let mut last = None;
-        for _ in 0..args.repeats.max(1) {
-            let clock = Instant::now();
-            let sim = Simulation::new(model.clone(), &case.initial, opts.clone())?;
-            let summary = sim.run(&mut |s| {
-                black_box(s);
-            });
-            times.push(clock.elapsed().as_secs_f64() * 1e3);
-            last = Some(summary);
-        }
-        Ok((median(times), last.expect("at least one run")))
-    };
-    let (run_ms, summary) = time_runs(&bare)?;
-    let (events_ms, _) = time_runs(&RunOptions { track_validity: true, ..bare.clone() })?;
-    let (samples_ms, _) =
+    let time_runs = |opts: &RunOptions| speed::time_runs(&model, &case.initial, opts, args.repeats);
+    let (run_times, summary) = time_runs(&bare)?;
+    let run_ms = median(&run_times);
+    let (events, _) = time_runs(&RunOptions { track_validity: true, ..bare.clone() })?;
+    let (samples, _) =
         time_runs(&RunOptions { track_validity: true, sample_dt: Some(case.dt), ..bare.clone() })?;
 
     let mut report = BenchReport {
         case: case.name.clone(),
         rhs_ns,
+        sin_cos_ns,
         run_to_rest_ms: run_ms,
-        run_to_rest_with_events_ms: events_ms,
-        run_with_samples_ms: samples_ms,
+        run_to_rest_fastest_ms: fastest(&run_times),
+        run_to_rest_with_events_ms: median(&events),
+        run_with_samples_ms: median(&samples),
         run_t_end: summary.t_end,
         run_end_reason: summary.end_reason.as_str(),
         run_rhs_evaluations: summary.stats.rhs_evaluations,
@@ -161,7 +162,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         sweep_threads: args.threads,
         sweep_retrograde: None,
         effects: Vec::new(),
+        scipy: None,
+        scipy_ratio: None,
+        scipy_ratio_fastest: None,
     };
+    if let Some(python) = &args.scipy {
+        let figures = bench_scipy::run(python, &args.scipy_script, args.scipy_repeats)?;
+        report.scipy_ratio = Some(figures.seconds * 1e3 / run_ms);
+        report.scipy_ratio_fastest = Some(figures.seconds * 1e3 / report.run_to_rest_fastest_ms);
+        report.scipy = Some(figures);
+    }
     if !args.skip_effects {
         // Each effect in the middle of its realistic range (geometric), slip at both ends.
         let start = Sample::new(&model, 0.0, &y0);
@@ -179,19 +189,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         for (kind, x) in cases {
             let mut m: Model = model.clone();
             apply(kind, x, m.body.r, start.reynolds, &mut m.effects)?;
-            let mut times = Vec::new();
-            let mut last = None;
-            for _ in 0..repeats {
-                let clock = Instant::now();
-                let sim = Simulation::new(m.clone(), &case.initial, bare.clone())?;
-                let summary = sim.run(&mut |s| {
-                    black_box(s);
-                });
-                times.push(clock.elapsed().as_secs_f64() * 1e3);
-                last = Some(summary);
-            }
-            let summary = last.expect("at least one run");
-            let ms = median(times);
+            let (times, summary) = speed::time_runs(&m, &case.initial, &bare, repeats)?;
+            let ms = median(&times);
             report.effects.push(EffectBench {
                 effect: kind.name(),
                 strength: x,
@@ -218,24 +217,44 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report.sweep_retrograde = Some(rows.iter().filter(|r| r.retrograde_turn).count());
     }
 
-    if args.json {
+    print_report(&report, args.repeats, case.dt, args.json)
+}
+
+fn print_report(report: &BenchReport, repeats: usize, dt: f64, json: bool) -> Result<()> {
+    if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         println!("case {}", report.case);
         println!("right-hand side:                 {:.1} ns per evaluation", report.rhs_ns);
         println!(
+            "  one sine and cosine:           {:.1} ns (two per evaluation)",
+            report.sin_cos_ns
+        );
+        println!(
             "run to the end (rtol {:.0e}):     {:.2} ms median of {} ({} evaluations, {} steps + {} rejected, ended {} at t = {:.4})",
             report.rtol,
             report.run_to_rest_ms,
-            args.repeats,
+            repeats,
             report.run_rhs_evaluations,
             report.run_steps,
             report.run_rejected_steps,
             report.run_end_reason,
             report.run_t_end
         );
+        println!("  fastest of the runs:           {:.2} ms", report.run_to_rest_fastest_ms);
+        if let (Some(sp), Some(ratio), Some(ratio_fast)) =
+            (&report.scipy, report.scipy_ratio, report.scipy_ratio_fastest)
+        {
+            println!(
+                "scipy DOP853 (numpy right-hand side): {:.2} s ({:.2} s of CPU; fastest of {}), {} evaluations, ended at t = {:.4}",
+                sp.seconds, sp.cpu_seconds, sp.repeats, sp.evaluations, sp.t_end
+            );
+            println!(
+                "  ringlab is {ratio:.0} times faster (median run), {ratio_fast:.0} times (fastest run)"
+            );
+        }
         println!("  + turning points and validity: {:.2} ms", report.run_to_rest_with_events_ms);
-        println!("  + samples every {}:         {:.2} ms", case.dt, report.run_with_samples_ms);
+        println!("  + samples every {}:         {:.2} ms", dt, report.run_with_samples_ms);
         for e in &report.effects {
             println!(
                 "  with {:<18} {:<7.4}: {:>7.2} ms ({:>4.1}x; {} evaluations, {:.1}x per time unit, {} steps, ended {} at t = {:.3}{})",

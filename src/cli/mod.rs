@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod bench_recording;
+pub mod bench_scipy;
 pub mod bench_track;
 pub mod bench_view;
 pub mod case_args;

@@ -14,6 +14,7 @@ pub mod paper;
 pub mod run;
 pub mod sample;
 pub mod slip;
+pub mod speed;
 pub mod trig;
 pub mod units;
 

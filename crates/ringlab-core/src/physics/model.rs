@@ -42,6 +42,17 @@ pub struct Model {
     pub effects: Effects,
 }
 
+/// The parts of eqs. 4-5 shared by every force model (frame components, m = 1).
+struct RollingParts {
+    r_g: Vector3<f64>,
+    v_c: Vector3<f64>,
+    om_x_vc: Vector3<f64>,
+    /// `f` of eq. 4 with gravity's torque.
+    f: Vector3<f64>,
+    /// Eq. 5's drag, `J^-1 T_drag`.
+    tau: Vector3<f64>,
+}
+
 /// Everything eqs. 3-5 give at one state: omega', the contact force and its parts.
 #[derive(Clone, Copy, Debug)]
 pub struct Dynamics {
@@ -156,6 +167,37 @@ impl Model {
         heading: (f64, f64),
         w: &Vector3<f64>,
     ) -> Dynamics {
+        let p = self.rolling_parts((st, ct), w);
+        if !self.effects.has_contact_terms() {
+            let omega_dot = self.body.j_inv * p.f + p.tau;
+            let force = omega_dot.cross(&p.r_g) + p.om_x_vc + self.g * Vector3::new(0.0, st, ct);
+            return Dynamics::from_force(omega_dot, force, st, ct, p.v_c);
+        }
+        self.dynamics_with_losses(p.f, p.tau, w, &p.om_x_vc, &p.v_c, (st, ct), heading)
+    }
+
+    /// `omega'` and `v_C`: what the right-hand side needs, without the contact force that
+    /// [`Model::dynamics_sc`] adds.
+    #[inline(always)]
+    fn omega_dot_sc(
+        &self,
+        (st, ct): (f64, f64),
+        heading: (f64, f64),
+        w: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        // The test first: the fast path then keeps the parts in registers.
+        if !self.effects.has_contact_terms() {
+            let p = self.rolling_parts((st, ct), w);
+            return (self.body.j_inv * p.f + p.tau, p.v_c);
+        }
+        let p = self.rolling_parts((st, ct), w);
+        let d = self.dynamics_with_losses(p.f, p.tau, w, &p.om_x_vc, &p.v_c, (st, ct), heading);
+        (d.omega_dot, d.v_c)
+    }
+
+    /// The terms of eqs. 4-5 that every force model shares: `J omega' = f + J tau`.
+    #[inline(always)]
+    fn rolling_parts(&self, (st, ct): (f64, f64), w: &Vector3<f64>) -> RollingParts {
         let b = &self.body;
         let tan = st / ct;
         let (a, r) = (0.5 * b.h, b.r);
@@ -173,32 +215,24 @@ impl Model {
         let c = self.drag_coefficients(&v_c, w);
         // Eq. 5: J^-1 T_drag = tau, tau_i = -C_i |w_i| w_i.
         let tau = Vector3::new(-c[0] * w1.abs() * w1, -c[1] * w2.abs() * w2, -c[2] * w3.abs() * w3);
-        let z = Vector3::new(0.0, st, ct);
-        let gz = self.g * z;
-        if !self.effects.has_contact_terms() {
-            let omega_dot = b.j_inv * f + tau;
-            let force = omega_dot.cross(&r_g) + om_x_vc + gz;
-            return Dynamics::from_force(omega_dot, force, st, ct, v_c);
-        }
-        self.dynamics_with_losses(f, tau, w, &om_x_vc, &v_c, (st, ct), heading)
+        RollingParts { r_g, v_c, om_x_vc, f, tau }
     }
 
     /// Total energy `1/2 w.I w + 1/2 |v_C|^2 + g z_C` (m = 1).
     pub fn energy(&self, y: &StateVec) -> f64 {
         let b = &self.body;
-        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = sin_cos(y[ix::THETA]);
+        self.kinetic_energy(y) + self.g * (0.5 * b.h * st + b.r * ct)
+    }
+
+    /// Kinetic energy only (no trigonometry: the run tests it after every step).
+    pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
+        let b = &self.body;
+        let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let v_c = Vector3::new(w.y * b.r - w.z * b.h / 2.0, -w.x * b.r, w.x * b.h / 2.0);
         let rot =
             0.5 * (b.inertia.x * w.x * w.x + b.inertia.y * w.y * w.y + b.inertia.z * w.z * w.z);
-        rot + 0.5 * v_c.norm_squared() + self.g * (0.5 * b.h * st + b.r * ct)
-    }
-
-    /// Kinetic energy only.
-    pub fn kinetic_energy(&self, y: &StateVec) -> f64 {
-        let b = &self.body;
-        let (st, ct) = sin_cos(y[ix::THETA]);
-        self.energy(y) - self.g * (0.5 * b.h * st + b.r * ct)
+        rot + 0.5 * v_c.norm_squared()
     }
 }
 
@@ -230,23 +264,23 @@ impl Dynamics {
 }
 
 impl System<STATE_LEN> for Model {
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, _t: f64, y: &StateVec, dy: &mut StateVec) {
         let w = Vector3::new(y[ix::W1], y[ix::W2], y[ix::W3]);
         let (st, ct) = sin_cos(y[ix::THETA]);
         let (sp, cp) = sin_cos(y[ix::PHI]);
-        let d = self.dynamics_sc((st, ct), (sp, cp), &w);
+        let (omega_dot, v_c) = self.omega_dot_sc((st, ct), (sp, cp), &w);
         // Euler-angle kinematics (PHYSICS.md inverse): theta' = w1, phi' = w3/cos, psi' = w2 - w3 tan.
         dy[ix::PHI] = w.z / ct;
         dy[ix::THETA] = w.x;
         dy[ix::PSI] = w.y - w.z * st / ct;
-        dy[ix::W1] = d.omega_dot.x;
-        dy[ix::W2] = d.omega_dot.y;
-        dy[ix::W3] = d.omega_dot.z;
+        dy[ix::W1] = omega_dot.x;
+        dy[ix::W2] = omega_dot.y;
+        dy[ix::W3] = omega_dot.z;
         // v_C rotated to the table: e1 = (cos phi, sin phi), horizontal part of e2, e3 along E2'.
-        let along_e2h = d.v_c.y * ct - d.v_c.z * st;
-        dy[ix::X] = d.v_c.x * cp - along_e2h * sp;
-        dy[ix::Y] = d.v_c.x * sp + along_e2h * cp;
+        let along_e2h = v_c.y * ct - v_c.z * st;
+        dy[ix::X] = v_c.x * cp - along_e2h * sp;
+        dy[ix::Y] = v_c.x * sp + along_e2h * cp;
     }
 }
 
@@ -325,6 +359,49 @@ impl Initial {
             psi_dot: y[ix::W2] - y[ix::W3] * st / ct,
             x_c: y[ix::X],
             y_c: y[ix::Y],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's ring (`paper.rs`, which builds on this file) with drag `c`.
+    fn ring(c: [f64; 3]) -> Model {
+        Model::new(Body::paper_ring(), 1.025 * 4.5 * 4.5 / 20.2, c, 1.0e-3).expect("valid")
+    }
+
+    /// A small deterministic generator (no dependency): uniform in [lo, hi).
+    fn uniform(seed: &mut u64, lo: f64, hi: f64) -> f64 {
+        *seed =
+            seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        lo + (hi - lo) * ((*seed >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    #[test]
+    fn the_right_hand_side_gives_the_dynamics_numbers_bit_for_bit() {
+        let mut reynolds = ring([0.03, 0.063, 0.085]);
+        reynolds.effects.reynolds_drag =
+            Some(ReynoldsDrag { re_ref: 3.0e3, exponent: 0.5, max_factor: 4.0, rim_share: 0.3 });
+        let mut rolling = ring([0.03, 0.063, 0.085]);
+        rolling.effects.rolling_friction = 0.01;
+        let mut seed = 7;
+        let models = [ring([0.03, 0.063, 0.085]), ring([0.2, 0.063, 0.2])];
+        for model in models.into_iter().chain([reynolds, rolling]) {
+            for _ in 0..20_000 {
+                let mut y = [0.0; STATE_LEN];
+                for v in &mut y {
+                    *v = uniform(&mut seed, -6.0, 6.0);
+                }
+                y[ix::THETA] = uniform(&mut seed, -0.2, 1.56);
+                let mut dy = [0.0; STATE_LEN];
+                model.rhs(0.0, &y, &mut dy);
+                let d = model.dynamics_of(&y);
+                for (i, v) in [d.omega_dot.x, d.omega_dot.y, d.omega_dot.z].iter().enumerate() {
+                    assert_eq!(dy[ix::W1 + i].to_bits(), v.to_bits(), "w{} at {y:?}", i + 1);
+                }
+            }
         }
     }
 }

@@ -60,10 +60,10 @@ const MAX_FACTOR: f64 = 6.0;
 /// for the step size (Hairer's choice for DOP853).
 const ERROR_EXPONENT: f64 = -1.0 / 8.0;
 
-/// `y + h sum_j c_j k_j`, skipping the tableau's zeros; the inner loop runs over the state
-/// (axpy form), which the compiler vectorises.
+/// `sum_j c_j k_j`, skipping the tableau's zeros (at compile time where `c` is a constant row);
+/// the inner loop runs over the state (axpy form), which the compiler vectorises.
 #[inline(always)]
-fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
+fn weighted_sum<const N: usize>(c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
     let mut acc = [0.0; N];
     for (cj, kj) in c.iter().zip(k.iter()) {
         if *cj != 0.0 {
@@ -72,6 +72,13 @@ fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) 
             }
         }
     }
+    acc
+}
+
+/// `y + h sum_j c_j k_j`.
+#[inline(always)]
+fn combine<const N: usize>(y: &[f64; N], h: f64, c: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
+    let acc = weighted_sum(c, k);
     let mut out = *y;
     for i in 0..N {
         out[i] += h * acc[i];
@@ -286,20 +293,21 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     fn attempt(&mut self, h: f64) -> ([f64; N], f64) {
         let t = self.t;
         let y = self.y;
-        for s in 1..12 {
-            let ys = combine(&y, h, &A[s][..s], &self.k);
-            let mut ks = [0.0; N];
-            self.system.rhs(t + C[s] * h, &ys, &mut ks);
-            self.k[s] = ks;
+        // Stage by stage with its row of the tableau a constant: the combinations then skip
+        // the tableau's zeros at compile time and keep the stages in registers.
+        macro_rules! stages {
+            ($($s:literal)*) => {$(
+                let ys = combine(&y, h, &A[$s][..$s], &self.k);
+                self.system.rhs(t + C[$s] * h, &ys, &mut self.k[$s]);
+            )*};
         }
+        stages!(1 2 3 4 5 6 7 8 9 10 11);
         let y_new = combine(&y, h, &B, &self.k);
-        let mut f_new = [0.0; N];
-        self.system.rhs(t + h, &y_new, &mut f_new);
-        self.k[12] = f_new;
+        self.system.rhs(t + h, &y_new, &mut self.k[12]);
         self.stats.rhs_evaluations += 12;
 
-        let e5 = combine(&[0.0; N], 1.0, &E5, &self.k);
-        let e3 = combine(&[0.0; N], 1.0, &E3, &self.k);
+        let e5 = weighted_sum(&E5, &self.k);
+        let e3 = weighted_sum(&E3, &self.k);
         let (mut err5, mut err3) = (0.0, 0.0);
         for i in 0..N {
             let sc = self.tol.atol + self.tol.rtol * y[i].abs().max(y_new[i].abs());
@@ -321,12 +329,13 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let h = self.t - self.t_prev;
         let y0 = self.y_prev;
-        for s in 13..16 {
-            let ys = combine(&y0, h, &A[s][..s], &self.k);
-            let mut ks = [0.0; N];
-            self.system.rhs(self.t_prev + C[s] * h, &ys, &mut ks);
-            self.k[s] = ks;
+        macro_rules! stages {
+            ($($s:literal)*) => {$(
+                let ys = combine(&y0, h, &A[$s][..$s], &self.k);
+                self.system.rhs(self.t_prev + C[$s] * h, &ys, &mut self.k[$s]);
+            )*};
         }
+        stages!(13 14 15);
         self.stats.rhs_evaluations += 3;
         for i in 0..N {
             let dy = self.y[i] - y0[i];
@@ -334,9 +343,15 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             self.dense[1][i] = h * self.k[0][i] - dy;
             self.dense[2][i] = 2.0 * dy - h * (self.k[12][i] + self.k[0][i]);
         }
-        for r in 0..4 {
-            self.dense[3 + r] = combine(&[0.0; N], h, &D[r], &self.k);
+        macro_rules! rows {
+            ($($r:literal)*) => {$(
+                let acc = weighted_sum(&D[$r], &self.k);
+                for i in 0..N {
+                    self.dense[3 + $r][i] = h * acc[i];
+                }
+            )*};
         }
+        rows!(0 1 2 3);
         self.dense_ready = true;
     }
 

@@ -24,5 +24,6 @@ pub use roots::find_root;
 
 /// A first-order system `y' = f(t, y)` with a state of `N` numbers.
 pub trait System<const N: usize> {
+    /// Writes `f(t, y)` into all of `dydt` (the stepper does not clear it first).
     fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]);
 }
