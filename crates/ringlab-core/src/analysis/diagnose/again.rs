@@ -5,9 +5,9 @@ use super::candidates::{fit_baseline, fit_candidate, refit_from, with_budget, wi
 use super::in_order::in_order_until;
 use super::options::DiagnoseError;
 use super::progress::Reporter;
+use super::ranking::{Fits, rank, through_seen_kinds};
 use super::rules::{MIN_EXPLAINED, Reach, explained_share};
 use super::seen_camera::FoundCamera;
-use super::select::{rank, through_seen_kinds};
 use super::whole::{Level, WholeFit, fit_path, fit_whole, no_ceiling, with_effect, with_effects};
 use crate::analysis::fit::lm::LmError;
 use crate::analysis::fit::shooting::Shooting;
@@ -437,9 +437,6 @@ fn through_camera_of(camera: &Camera, fit_opts: &FitOptions) -> FitOptions {
         ..fit_opts.clone()
     }
 }
-
-/// Candidate fits, each effect in turn.
-pub(super) type Fits = Vec<(EffectKind, Result<WholeFit, LmError>)>;
 
 /// What the plan's singles phase works on: the single candidates fitted along the baseline's
 /// path, fitted again where none has settled the recording (`plan.rs`).

@@ -31,6 +31,7 @@ mod options;
 mod pairs;
 mod plan;
 mod progress;
+mod ranking;
 pub mod residual;
 mod result;
 mod rules;

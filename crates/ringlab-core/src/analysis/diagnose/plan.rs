@@ -12,7 +12,7 @@
 
 use super::again::{self, Singles};
 use super::options::DiagnoseError;
-use super::progress::Reporter;
+use super::progress::{Phase, Reporter};
 use super::rules::{Reach, reached};
 use super::select::{self, Choosing};
 use super::whole::WholeFit;
@@ -133,13 +133,6 @@ pub(super) trait Work: Sized {
     fn fitted(&self) -> Vec<&WholeFit>;
     fn noise_px(&self) -> f64;
     fn progress(&self) -> &Reporter<'_>;
-}
-
-/// The two phases of the plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Phase {
-    Singles,
-    Selection,
 }
 
 /// The passes of `w`'s phase, in order: each that has not been made needless by a model

@@ -2,7 +2,6 @@
 //! stages call it; they do no progress arithmetic of their own).
 
 use super::options::{DiagnoseProgress, DiagnoseStage};
-use super::plan::Phase;
 use crate::analysis::fit::FitProgress;
 use crate::physics::effects::EffectKind;
 use std::sync::Mutex;
@@ -202,4 +201,11 @@ impl PairRound {
 
 fn index(k: EffectKind) -> usize {
     EffectKind::ALL.iter().position(|&x| x == k).unwrap_or(0)
+}
+
+/// The two phases of the plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    Singles,
+    Selection,
 }

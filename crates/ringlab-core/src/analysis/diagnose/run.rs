@@ -1,6 +1,6 @@
 //! The steps of a diagnosis (see the module doc of `analysis::diagnose`).
 
-use super::again::{Again, Fits, Singles};
+use super::again::{Again, Singles};
 use super::candidates::{fit_baseline, fit_candidates};
 use super::departure::{self, Departure};
 use super::explain::explain;
@@ -8,6 +8,8 @@ use super::noise_correlation::{self, NoiseCorrelation};
 use super::options::{DiagnoseError, DiagnoseOptions, DiagnoseProgress};
 use super::plan;
 use super::progress::Reporter;
+use super::ranking::Fits;
+use super::ranking::rank;
 use super::residual::{
     MIN_WINDOW_FRAMES, NoiseLevel, WINDOW_S, Window, departures, frame_rms, frame_sums, windows,
 };
@@ -17,7 +19,7 @@ use super::result::{
 };
 use super::rules::bic;
 use super::seen_camera::seen_camera;
-use super::select::{Selection, forward_selection, rank};
+use super::select::{Selection, forward_selection};
 use super::signature::{measure, run_end};
 use super::whole::{Level, WholeFit};
 use crate::analysis::fit::lm::LmError;
@@ -82,7 +84,7 @@ pub fn diagnose(
             evidence: opts.evidence,
             progress,
         };
-        forward_selection(&sel, ranked)
+        forward_selection(&sel, ranked, |w| plan::run(w))
     };
     let mut ranked = rank(&baseline, &fits, noise.dependence());
     let (mut finding, mut chosen, mut shares, mut pairs) = select(&mut ranked, &noise)?;

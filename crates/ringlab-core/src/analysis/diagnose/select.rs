@@ -4,14 +4,14 @@
 //! ([`Selection::name`]) use one test of "worth its numbers" ([`Selection::worth`]).
 
 use super::again::{
-    Again, Fits, best_pair, effect_through_camera, effects_through_camera, walk_best_pair_again,
+    Again, best_pair, effect_through_camera, effects_through_camera, walk_best_pair_again,
 };
 use super::candidates::refit_without;
 use super::noise_correlation::residual_dependence;
 use super::options::DiagnoseError;
 use super::pairs::{self, PairFit, pairs_stage};
-use super::plan;
 use super::progress::Reporter;
+use super::ranking::{others_through_camera, through_seen_kinds};
 use super::result::{Candidate, Finding, NamedShare, PairCandidate, Partial};
 use super::rules::{MIN_EXPLAINED, Reach, bic, explained_share, explains};
 use super::seen_camera::FoundCamera;
@@ -71,14 +71,17 @@ type Named = (Finding, Option<WholeFit>, Vec<WholeFit>);
 /// The decision ([`decide`]), then forward selection (the plan's selection phase): where the
 /// named effect, or no single one, leaves the misfit beyond the noise, larger models of the
 /// candidates; one is named only where it beats every effect alone ([`Selection::name`]).
+/// `run_plan` runs the plan's selection phase (`plan::run`, given by the caller: the plan
+/// lists this file's passes, so this file does not name it).
 pub(super) fn forward_selection(
     sel: &Selection,
     ranked: &mut [(Candidate, Option<&WholeFit>)],
+    run_plan: impl FnOnce(&mut Choosing) -> Result<(), DiagnoseError>,
 ) -> Result<Selected, DiagnoseError> {
     let (finding, chosen) = decide(sel, ranked);
     let chosen = chosen.unwrap_or(sel.baseline);
     let mut work = Choosing { sel, ranked, chosen, pairs: Pairs::default() };
-    plan::run(&mut work)?;
+    run_plan(&mut work)?;
     let pairs = work.pairs;
     let trimmed = sel.trimmed(&pairs)?;
     let best_pair = trimmed.as_ref().or_else(|| sel.best_of(&pairs));
@@ -274,36 +277,6 @@ impl Selection<'_> {
 /// effect (the camera alone, fitted through the camera found).
 fn camera_free(kind: EffectKind) -> EffectKind {
     if kind.is_camera() { EffectKind::BASELINE } else { kind }
-}
-
-/// The effects fitted through the camera the segments see, most promising first: by their
-/// score alone, but a costly effect that did not improve alone second. Through the wrong camera
-/// it cannot improve ([`effect_through_camera`]), so its score says nothing; its runs take
-/// longest, so begun early they run beside the others' (the pairs, where nothing settles, wait
-/// for the last of them), and where it settles the recording the others are not fitted.
-pub(super) fn through_seen_kinds(ranked: &[(Candidate, Option<&WholeFit>)]) -> Vec<EffectKind> {
-    let mut kinds = others_through_camera(ranked, true);
-    for (c, _) in ranked.iter().filter(|(c, _)| c.effect.in_plan().costly) {
-        if !kinds.contains(&c.effect) {
-            kinds.insert(kinds.len().min(1), c.effect);
-        }
-    }
-    kinds
-}
-
-/// The candidates fitted through a camera found: every effect but a costly one, which has its
-/// own pass ([`costly_through_lead`]) where it did not improve alone; where it did, and the
-/// segments see a camera (`camera_seen`), it is one of the others.
-fn others_through_camera(
-    ranked: &[(Candidate, Option<&WholeFit>)],
-    camera_seen: bool,
-) -> Vec<EffectKind> {
-    ranked
-        .iter()
-        .filter(|(c, _)| !c.effect.is_baseline())
-        .filter(|(c, _)| !c.effect.in_plan().costly || (camera_seen && c.delta_score < 0.0))
-        .map(|(c, _)| c.effect)
-        .collect()
 }
 
 impl<'a> Choosing<'a> {
@@ -526,60 +499,4 @@ fn drop_each(ms: &Shooting, p: &WholeFit) -> Result<Vec<WholeFit>, DiagnoseError
         }
     }
     Ok(out)
-}
-
-/// The baseline and every candidate, best BIC first.
-pub(super) fn rank<'a>(
-    baseline: &'a WholeFit,
-    fits: &'a Fits,
-    dependence: f64,
-) -> Vec<(Candidate, Option<&'a WholeFit>)> {
-    let n = baseline.residual_count;
-    let score = |w: &WholeFit| bic(w.cost, n, w.parameter_count, dependence);
-    let none_score = score(baseline);
-    let mut ranked: Vec<(Candidate, Option<&WholeFit>)> = vec![(
-        Candidate {
-            effect: EffectKind::BASELINE,
-            rms_px: baseline.rms_px(),
-            score: none_score,
-            delta_score: 0.0,
-            strength: None,
-            error: None,
-            seconds: baseline.seconds,
-            stopped_at_segments: baseline.stopped_at,
-        },
-        Some(baseline),
-    )];
-    for (kind, r) in fits {
-        ranked.push(match r {
-            Ok(w) => {
-                let c = Candidate {
-                    effect: *kind,
-                    rms_px: w.rms_px(),
-                    score: score(w),
-                    delta_score: score(w) - none_score,
-                    strength: w.strength,
-                    error: None,
-                    seconds: w.seconds,
-                    stopped_at_segments: w.stopped_at,
-                };
-                (c, Some(w))
-            }
-            Err(e) => {
-                let c = Candidate {
-                    effect: *kind,
-                    rms_px: f64::NAN,
-                    score: f64::INFINITY,
-                    delta_score: f64::INFINITY,
-                    strength: None,
-                    error: Some(e.to_string()),
-                    seconds: 0.0,
-                    stopped_at_segments: None,
-                };
-                (c, None)
-            }
-        });
-    }
-    ranked.sort_by(|a, b| a.0.score.total_cmp(&b.0.score));
-    ranked
 }
