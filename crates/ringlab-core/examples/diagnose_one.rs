@@ -2,12 +2,45 @@
 //! candidates and the seconds of each stage. A driver for profiling the diagnosis
 //! (`docs/speed.md`): `cargo run --release -p ringlab-core --example diagnose_one -- FILE.csv`.
 //! `RINGLAB_CANDIDATES=slip,reynolds_drag` offers only the effects named (to time one alone).
+//! `RINGLAB_PASSES=1` prints each stage and pass of the plan as it begins, with the wall and
+//! CPU seconds since the diagnosis began (the CPU time read from `/proc/self/stat`, Linux only).
 
-use ringlab_core::analysis::diagnose::{DiagnoseOptions, Finding, diagnose};
+use ringlab_core::analysis::diagnose::{DiagnoseOptions, DiagnoseProgress, Finding, diagnose};
 use ringlab_core::physics::effects::EffectKind;
 use ringlab_core::recording::import::{ImportOptions, import};
 use std::path::PathBuf;
+use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// The CPU seconds (user and system) this process has used, where `/proc` tells them.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The fields after the command's name in parentheses (which may hold spaces).
+    let rest = stat.rsplit_once(')')?.1;
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i).and_then(|v| v.parse::<f64>().ok());
+    // utime and stime, fields 14 and 15 of proc(5), in clock ticks of 1/100 s.
+    Some((ticks(11)? + ticks(12)?) / 100.0)
+}
+
+/// Prints each stage and pass as it begins (once), with the seconds since `start`.
+fn pass_printer(start: Instant, cpu0: f64) -> impl Fn(&DiagnoseProgress) + Sync {
+    let last = Mutex::new(String::new());
+    move |p: &DiagnoseProgress| {
+        let what = match p.pass {
+            Some(name) => format!("pass: {name}"),
+            None => format!("stage: {}", p.stage.describe()),
+        };
+        let mut last = last.lock().unwrap_or_else(|e| e.into_inner());
+        if *last != what {
+            let cpu = cpu_seconds().map_or(f64::NAN, |c| c - cpu0);
+            let wall = start.elapsed().as_secs_f64();
+            println!("  [{wall:7.2} s wall {cpu:7.2} s cpu] {what}");
+            *last = what;
+        }
+    }
+}
 
 /// The effect named `name`, as `ringlab diagnose --candidates` spells it.
 fn effect(name: &str) -> Result<EffectKind, String> {
@@ -29,13 +62,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if let Ok(list) = std::env::var("RINGLAB_CANDIDATES") {
             opts.candidates = list.split(',').map(effect).collect::<Result<_, _>>()?;
         }
-        let d = diagnose(&rec, &opts, &|_| {}, &cancel)?;
+        let cpu0 = cpu_seconds().unwrap_or(0.0);
+        let d = if std::env::var_os("RINGLAB_PASSES").is_some() {
+            diagnose(&rec, &opts, &pass_printer(Instant::now(), cpu0), &cancel)?
+        } else {
+            diagnose(&rec, &opts, &|_| {}, &cancel)?
+        };
+        let cpu = cpu_seconds().map_or(f64::NAN, |c| c - cpu0);
         let named = match &d.finding {
             Finding::Named(k) => k.iter().map(|k| k.name()).collect::<Vec<_>>().join(" + "),
             f => f.name().to_string(),
         };
         println!(
-            "{}: {} frames; {named}; misfit {:.4} -> {:.4} px; noise {:.4} px; {:.2} s",
+            "{}: {} frames; {named}; misfit {:.4} -> {:.4} px; noise {:.4} px; {:.2} s ({cpu:.2} s of CPU)",
             file.display(),
             d.frames,
             d.before.rms_px,

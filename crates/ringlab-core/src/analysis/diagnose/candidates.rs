@@ -8,8 +8,9 @@
 //! few long segments, is cheaper but fails: there the baseline's drag has absorbed so much of
 //! an effect that the scan sees no effect as best, and from the baseline's valley the least
 //! squares do not find the effect's.) Two safeguards keep the comparison fair where a least-squares path ends in a
-//! side valley: the baseline is refitted from the best candidate's drag and start, so that
-//! "before" is the baseline at its best and not one that stopped early; and a candidate nests
+//! side valley: the baseline is refitted from the best candidate's drag and start (and again
+//! from where that fit ended while it still gains), so that "before" is the baseline at its best
+//! and not one that stopped early; and a candidate nests
 //! the baseline (at zero strength it IS the baseline), so one that ends worse than the
 //! baseline is refitted from the baseline's solution. An effect without a baseline strength
 //! (its descriptor's `baseline` is None) nests it only in the limit; where its run from the
@@ -18,8 +19,8 @@
 
 use super::result::{STAGE_CEILING, extras_of};
 use super::whole::{
-    LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling, segment_cost,
-    stopped_at_stage, with_effect, with_effects,
+    FINAL_REL_TOL, LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling,
+    segment_cost, stopped_at_stage, with_effect, with_effects,
 };
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
@@ -360,7 +361,7 @@ pub fn fit_candidates(
     if let Some(best) = best
         && best.cost < baseline.cost
     {
-        let again = refit_from(ms, EffectKind::BASELINE, best, 0.0)?;
+        let again = baseline_from(ms, best)?;
         if again.cost < baseline.cost {
             baseline = again;
         }
@@ -394,6 +395,29 @@ pub fn fit_candidates(
         }
     });
     Ok((baseline, candidates))
+}
+
+/// How many times [`baseline_from`] fits the baseline again from where its last fit ended.
+const BASELINE_REFITS: usize = 3;
+
+/// The baseline over the whole run from `from`'s drag and start state (a candidate's), fitted
+/// again from where each fit ended while that still lowers its misfit by more than the last
+/// stage's stopping gain: from a candidate's solution far from the baseline's (a slide's drag
+/// and start), one fit can spend its iterations on the way down, and "before" would then be a
+/// baseline short of its best.
+fn baseline_from(ms: &Shooting, from: &WholeFit) -> Result<WholeFit, LmError> {
+    let mut fit = refit_from(ms, EffectKind::BASELINE, from, 0.0)?;
+    for _ in 0..BASELINE_REFITS {
+        let again = refit_from(ms, EffectKind::BASELINE, &fit, 0.0)?;
+        let gained = again.cost < (1.0 - FINAL_REL_TOL) * fit.cost;
+        if again.cost < fit.cost {
+            fit = WholeFit { seconds: fit.seconds + again.seconds, ..again };
+        }
+        if !gained {
+            break;
+        }
+    }
+    Ok(fit)
 }
 
 /// `ms` with runs whose contact begins as `start` says (an effect with two starts only; the

@@ -26,7 +26,7 @@ const FINAL_ITERATIONS: usize = 20;
 const FINAL_SECANT_STEPS: usize = 3;
 /// The last stage stops when an iteration gains less than this share of the misfit: a BIC
 /// difference of 0.1 over 10,000 coordinates is a share of 1e-5.
-const FINAL_REL_TOL: f64 = 1e-5;
+pub(super) const FINAL_REL_TOL: f64 = 1e-5;
 
 /// A model fitted to the whole run from one state.
 #[derive(Clone, Debug)]
