@@ -19,8 +19,8 @@
 
 use super::result::{STAGE_CEILING, extras_of};
 use super::whole::{
-    FINAL_REL_TOL, LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole, no_ceiling,
-    segment_cost, stopped_at_stage, with_effect, with_effects,
+    FINAL_ITERATIONS, FINAL_REL_TOL, LEVEL_ITERATIONS, Level, WholeFit, fit_path, fit_whole,
+    no_ceiling, segment_cost, stopped_at_stage, with_effect, with_effects,
 };
 use crate::analysis::fit::lm::{self, LmError, LmOptions};
 use crate::analysis::fit::shooting::{Shooting, WorkBudget};
@@ -401,13 +401,17 @@ pub fn fit_candidates(
 const BASELINE_REFITS: usize = 3;
 
 /// The baseline over the whole run from `from`'s drag and start state (a candidate's), fitted
-/// again from where each fit ended while that still lowers its misfit by more than the last
-/// stage's stopping gain: from a candidate's solution far from the baseline's (a slide's drag
-/// and start), one fit can spend its iterations on the way down, and "before" would then be a
-/// baseline short of its best.
+/// again from where the fit ended while it took as many steps as its fresh Jacobians allow
+/// (then it may have run out of them) and the refit still lowers its misfit by more than the
+/// last stage's stopping gain: from a candidate's solution far from the baseline's (a slide's
+/// drag and start), one fit can spend its iterations on the way down, and "before" would then
+/// be a baseline short of its best. A fit that stopped sooner has settled: no refit.
 fn baseline_from(ms: &Shooting, from: &WholeFit) -> Result<WholeFit, LmError> {
     let mut fit = refit_from(ms, EffectKind::BASELINE, from, 0.0)?;
     for _ in 0..BASELINE_REFITS {
+        if fit.iterations < FINAL_ITERATIONS {
+            break;
+        }
         let again = refit_from(ms, EffectKind::BASELINE, &fit, 0.0)?;
         let gained = again.cost < (1.0 - FINAL_REL_TOL) * fit.cost;
         if again.cost < fit.cost {

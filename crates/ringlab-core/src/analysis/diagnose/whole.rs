@@ -22,7 +22,7 @@ pub const LEVEL_ITERATIONS: usize = 6;
 /// Fresh Jacobians allowed at the final single segment, and the Broyden steps allowed after
 /// each (see `lm`): over the whole run the fit creeps along a curved valley in many small
 /// steps, and a secant step costs one run where a fresh Jacobian costs 14 to 16.
-const FINAL_ITERATIONS: usize = 20;
+pub(super) const FINAL_ITERATIONS: usize = 20;
 const FINAL_SECANT_STEPS: usize = 3;
 /// The last stage stops when an iteration gains less than this share of the misfit: a BIC
 /// difference of 0.1 over 10,000 coordinates is a share of 1e-5.
