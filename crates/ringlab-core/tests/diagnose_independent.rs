@@ -17,8 +17,9 @@ fn check(name: &str) -> ringlab_core::analysis::diagnose::Diagnosis {
 #[test]
 fn slip_of_another_simulator_is_named() {
     let d = check("slip-hybrid");
-    // "Before" is the baseline at its best: refitted from slip's solution, one fit ran out of
-    // its Jacobians at 9.234 px; fitted again from where it stopped it settles at 8.685 px.
+    // "Before" is the baseline at its best: refitted from slip's solution, one fit runs out of
+    // its Jacobians well short of it, and only fitted again from where it stopped does it
+    // settle (docs/speed.md, "the baseline's before", has the figures).
     assert!(
         d.before.rms_px < 8.75,
         "before {} px: the baseline short of its best",
