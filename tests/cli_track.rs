@@ -154,6 +154,21 @@ fn bad_films_and_flags_are_clear_errors() {
         ],
         &["--to-frame 3 comes before --from-frame 9"],
     );
+    for (flag, value, said) in [
+        ("--camera-distance-mm", "-50", "--camera-distance-mm -50: must be a distance"),
+        ("--camera-distance-mm", "30", "more than the ring's 59 mm"),
+        ("--camera-tilt-deg", "95", "--camera-tilt-deg 95: must be the camera's angle"),
+        ("--camera-tilt-deg", "NaN", "within (-80, 80)"),
+    ] {
+        common::assert_fails_with(
+            &["track", &film, "--preset", "steel-ring", flag, value, "--out", &out],
+            &[said],
+        );
+    }
+    common::assert_fails_with(
+        &["fit", &film, "--preset", "steel-ring", "--camera-tilt-deg", "steep"],
+        &["--camera-tilt-deg", "steep"],
+    );
     let text = d.join("notes.txt");
     std::fs::write(&text, "not a film").expect("writes");
     common::assert_fails_with(
