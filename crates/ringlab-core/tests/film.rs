@@ -643,7 +643,7 @@ fn a_tripods_camera_is_measured_from_the_ring_and_written_in_the_header() {
     assert_eq!(h.camera_distance_mm, Some(d));
     assert_eq!(h.camera_tilt_deg, Some(c.tilt_deg));
     let from = h.extra.iter().find(|(k, _)| k == "px_per_mm_from").expect("px_per_mm_from");
-    assert!(from.1.starts_with("ring through a camera fitted from it"), "{from:?}");
+    assert!(from.1.starts_with("ring through a near camera fitted from it"), "{from:?}");
     // Through the camera the marks' figure closes to the centres' error; looked at straight
     // down it cannot.
     assert!(c.figure_px < 0.5 * c.far_figure_px, "{c:?}");
