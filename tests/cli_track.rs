@@ -154,6 +154,21 @@ fn bad_films_and_flags_are_clear_errors() {
         ],
         &["--to-frame 3 comes before --from-frame 9"],
     );
+    for (flag, value, said) in [
+        ("--camera-distance-mm", "-50", "--camera-distance-mm -50: must be a distance"),
+        ("--camera-distance-mm", "30", "more than the ring's 59 mm"),
+        ("--camera-tilt-deg", "95", "--camera-tilt-deg 95: must be the camera's angle"),
+        ("--camera-tilt-deg", "NaN", "within (-80, 80)"),
+    ] {
+        common::assert_fails_with(
+            &["track", &film, "--preset", "steel-ring", flag, value, "--out", &out],
+            &[said],
+        );
+    }
+    common::assert_fails_with(
+        &["fit", &film, "--preset", "steel-ring", "--camera-tilt-deg", "steep"],
+        &["--camera-tilt-deg", "steep"],
+    );
     let text = d.join("notes.txt");
     std::fs::write(&text, "not a film").expect("writes");
     common::assert_fails_with(
@@ -285,4 +300,43 @@ fn diagnose_names_a_near_camera_from_its_film_and_corrects_the_scale() {
     let correction = after["params"]["table_scale_correction_pct"].as_f64().expect("fitted");
     let table = tracked * (1.0 + correction / 100.0);
     assert!((table / 3.364764 - 1.0).abs() < 0.003, "{tracked} corrected to {table} px/mm");
+}
+
+/// A tripod's film (`colours-tripod-30-mid`: 550 mm, tilted 30 degrees, nothing left out of
+/// the physics): the tracker writes the camera it fits from the ring, and the diagnosis names
+/// nothing but that camera, placed from the motion; with the camera given, nothing at all.
+#[test]
+fn diagnose_names_at_most_a_tripods_camera() {
+    let film = s(&test_data("video/colours-tripod-30-mid.mp4"));
+    let out = s(&dir("tripod").join("tripod.csv"));
+    let r = common::ringlab(&["track", &film, "--preset", "steel-ring", "--out", &out]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let said = String::from_utf8_lossy(&r.stdout);
+    assert!(said.contains("camera from the ring over 400 frames"), "{said}");
+    let rec = read_recording(Path::new(&out)).expect("reads back");
+    assert!(rec.header.camera_distance_mm.is_some() && rec.header.camera_tilt_deg.is_some());
+    let r = common::ringlab(&["diagnose", &film, "--preset", "steel-ring", "--json"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&r.stdout).expect("JSON");
+    assert_eq!(v["left_out"], "camera_perspective", "{v}");
+    let after = &v["after"];
+    let distance = 1000.0 / after["params"]["camera_perspective"].as_f64().expect("strength");
+    assert!((distance / 550.0 - 1.0).abs() < 0.03, "{distance} mm");
+    let tilt = after["params"]["camera_tilt_deg"].as_f64().expect("tilt");
+    assert!((tilt - 30.0).abs() < 0.5, "{tilt} deg");
+    let given = [
+        "diagnose",
+        &film,
+        "--preset",
+        "steel-ring",
+        "--camera-distance-mm",
+        "550",
+        "--camera-tilt-deg",
+        "30",
+        "--json",
+    ];
+    let r = common::ringlab(&given);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&r.stdout).expect("JSON");
+    assert_eq!(v["left_out"], "none", "{v}");
 }

@@ -23,6 +23,15 @@ pub struct FilmArgs {
     /// Last frame to track (inclusive; default: the film's last)
     #[arg(long)]
     pub to_frame: Option<u64>,
+    /// The camera's distance (mm) from the table along its axis, where known (default: measured
+    /// from the ring; the table's scale is then measured through that camera)
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    pub camera_distance_mm: Option<f64>,
+    /// The camera's tilt (degrees) from the vertical about the image's horizontal, positive
+    /// with the camera towards the image's bottom edge, where known (default: measured from
+    /// the ring)
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub camera_tilt_deg: Option<f64>,
 }
 
 /// Ctrl-C sets this flag (once per process) instead of ending at once, so that nothing is left
@@ -95,6 +104,22 @@ pub fn describe(t: &TrackedFilm) -> Vec<String> {
             s.frames,
             s.height_mm,
             if s.camera_is_near() { " (a near camera: see the note)" } else { " (a far camera: the same at the table)" }
+        ));
+    }
+    if let Some(c) = &r.camera {
+        let distance = c
+            .distance_mm
+            .map_or("far".to_string(), |d| format!("{d:.0} +- {:.0} mm away", c.distance_sigma_mm));
+        let taken = if c.is_tripod() {
+            "written in the header"
+        } else if c.is_believed() {
+            "looking nearly straight down: left to the ring's scale and the diagnosis"
+        } else {
+            "not clearly other than far and straight down: not written"
+        };
+        out.push(format!(
+            "camera from the ring over {} frames: {distance}, tilted {:.2} +- {:.2} degrees, table scale {:.4} +- {:.4} px/mm; marks' figure {:.3} px through it, {:.3} px far and straight down ({taken})",
+            c.frames, c.tilt_deg, c.tilt_sigma_deg, c.px_per_mm, c.px_per_mm_sigma, c.figure_px, c.far_figure_px
         ));
     }
     out.push(format!("scale written: {:.5} px/mm", r.px_per_mm));

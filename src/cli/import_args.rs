@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use ringlab::config::load_preset;
-use ringlab::film::{MarkStyle, Roi, TrackOptions};
+use ringlab::film::{CameraGiven, MarkStyle, Roi, TrackOptions};
 use ringlab::physics::Shape;
 use ringlab::recording::import::{BodyMm, Format, ImportOptions, Imported, LengthUnit, import};
 use std::path::PathBuf;
@@ -97,6 +97,10 @@ impl ImportArgs {
             to_frame: film.to_frame,
             fps: o.fps,
             px_per_mm: o.px_per_mm,
+            camera: CameraGiven {
+                distance_mm: film.camera_distance_mm,
+                tilt_deg: film.camera_tilt_deg,
+            },
             body,
         })
     }

@@ -8,7 +8,7 @@
 mod common;
 
 use common::test_data;
-use ringlab_core::film::{FilmErrorKind, MarkStyle, TrackOptions, TrackedFilm, track};
+use ringlab_core::film::{CameraGiven, FilmErrorKind, MarkStyle, TrackOptions, TrackedFilm, track};
 use ringlab_core::physics::Shape;
 use ringlab_core::recording::import::BodyMm;
 use ringlab_core::recording::{FrameMarks, read_recording};
@@ -621,4 +621,106 @@ fn the_turning_numbers_dots_across_losses_and_never_wrongly() {
         }
     }
     assert!(settled * 2 > tried, "settled {settled} of {tried}");
+}
+
+/// A camera on a tripod beside the table (`colours-tripod-30-mid`: 600 frames of the shared
+/// film, a pinhole 550 mm from the table tilted 30 degrees towards the image's bottom edge):
+/// its distance, its tilt and the table's scale are measured from the ring and written in the
+/// header, and the marks tracked within the goal.
+#[test]
+fn a_tripods_camera_is_measured_from_the_ring_and_written_in_the_header() {
+    let t = check_film("colours-tripod-30-mid", steel_ring(), 0.7);
+    let c = t.report.camera.expect("a camera fitted");
+    assert!(c.is_tripod(), "{c:?}");
+    // The tracked centres' own bias (a third of a pixel that turns with the ring) pulls the
+    // camera away and up (docs/film.md): its true centres fix it within a few mm and a tenth
+    // of a degree (below), the tracked ones within 20% and 3.5 degrees.
+    let d = c.distance_mm.expect("a near camera");
+    assert!((d / 550.0 - 1.0).abs() < 0.2 && c.distance_sigma_mm < 40.0, "{c:?}");
+    assert!((c.tilt_deg - 30.0).abs() < 3.5 && c.tilt_sigma_deg < 1.5, "{c:?}");
+    let h = &t.recording.header;
+    assert!((h.px_per_mm / 3.364764 - 1.0).abs() < 0.01, "{}", h.px_per_mm);
+    assert_eq!(h.camera_distance_mm, Some(d));
+    assert_eq!(h.camera_tilt_deg, Some(c.tilt_deg));
+    let from = h.extra.iter().find(|(k, _)| k == "px_per_mm_from").expect("px_per_mm_from");
+    assert!(from.1.starts_with("ring through a near camera fitted from it"), "{from:?}");
+    // Through the camera the marks' figure closes to the centres' error; looked at straight
+    // down it cannot.
+    assert!(c.figure_px < 0.5 * c.far_figure_px, "{c:?}");
+    let sigma = t.report.tracker_sigma_px.expect("the error checked through the camera");
+    assert!(sigma > 0.05 && sigma < 0.6, "{sigma}");
+}
+
+/// The camera given by flags is held, and the table's scale measured through it.
+#[test]
+fn a_camera_given_is_held_and_the_scale_measured_through_it() {
+    let opts = TrackOptions {
+        camera: CameraGiven { distance_mm: Some(550.0), tilt_deg: Some(30.0) },
+        ..options(steel_ring())
+    };
+    let t = run(&test_data("video/colours-tripod-30-mid.mp4"), &opts).expect("tracks");
+    let c = t.report.camera.expect("a camera");
+    assert_eq!((c.distance_mm, c.tilt_deg), (Some(550.0), 30.0));
+    let h = &t.recording.header;
+    assert!((h.px_per_mm / 3.364764 - 1.0).abs() < 0.01, "{}", h.px_per_mm);
+    assert_eq!((h.camera_distance_mm, h.camera_tilt_deg), (Some(550.0), Some(30.0)));
+    let from = h.extra.iter().find(|(k, _)| k == "px_per_mm_from").expect("px_per_mm_from");
+    assert!(from.1.starts_with("ring through the camera given"), "{from:?}");
+    // A camera that cannot be is refused before the film is read.
+    for (distance_mm, tilt_deg, said) in [
+        (Some(-5.0), None, "--camera-distance-mm -5"),
+        (Some(40.0), None, "more than the ring's"),
+        (None, Some(80.0), "--camera-tilt-deg 80"),
+        (None, Some(f64::NAN), "within (-80, 80)"),
+    ] {
+        let opts =
+            TrackOptions { camera: CameraGiven { distance_mm, tilt_deg }, ..options(steel_ring()) };
+        let e = run(&test_data("video/colours-tripod-30-mid.mp4"), &opts).expect_err("refused");
+        assert!(matches!(e.kind, FilmErrorKind::Options(_)), "{e}");
+        assert!(e.to_string().contains(said), "{e}");
+    }
+}
+
+/// Far cameras looking straight down are not taken for a tripod: nothing is written of the
+/// camera and the scale is the ring's as before.
+#[test]
+fn a_far_camera_looking_down_writes_no_camera() {
+    for (name, body) in
+        [("colours-none-mid", steel_ring()), ("disk-dark-none-mid", aluminium_disk())]
+    {
+        let t = run(&test_data(&format!("video/{name}.mp4")), &options(body)).expect("tracks");
+        assert!(t.report.camera.is_none_or(|c| !c.is_tripod()), "{name}: {:?}", t.report.camera);
+        let h = &t.recording.header;
+        assert_eq!((h.camera_distance_mm, h.camera_tilt_deg), (None, None), "{name}");
+    }
+}
+
+/// The true centres of the tripod's cut fix the camera they were made with: 550 mm from the
+/// table along its axis, tilted 30 degrees, the table's scale 3.364764 px/mm under the image
+/// centre.
+#[test]
+fn the_true_centres_of_a_tripods_film_fix_its_camera() {
+    let truth = read_recording(&test_data("video/colours-tripod-30-mid.truth.csv")).expect("truth");
+    let body = steel_ring();
+    let geometry = ringlab_core::recording::marks::MarkGeometry {
+        radius: body.outer_radius_mm - 0.5,
+        r_outer: body.outer_radius_mm,
+        h: body.width_mm,
+        order: ringlab_core::recording::marks::MarkOrder::Forward,
+    };
+    let c = ringlab_core::film::camera_fit::fit_camera(
+        &truth.frames,
+        geometry,
+        [1280.0, 1024.0],
+        3.7,
+        CameraGiven::default(),
+        None,
+    )
+    .expect("a camera");
+    let d = c.distance_mm.expect("near");
+    assert!((d - 550.0).abs() < 3.0, "{c:?}");
+    assert!((c.tilt_deg - 30.0).abs() < 0.1, "{c:?}");
+    assert!((c.px_per_mm / 3.364764 - 1.0).abs() < 0.002, "{c:?}");
+    assert!(c.figure_px < 0.02 && c.far_figure_px > 1.0, "{c:?}");
+    assert!(c.is_tripod(), "{c:?}");
 }

@@ -131,3 +131,28 @@ fn the_still_end_through_a_camera_that_is_not_flat_is_where_the_ring_stops() {
         assert!(m.pose_scatter_note().is_some(), "{name}: the scatter is pointed out");
     }
 }
+
+/// Through a tripod's camera (600 mm, tilted 25 degrees, in the header) each mark is mapped
+/// onto the table's plan at its own height: the poses then fit the marks to a tenth of a pixel,
+/// where the flat view leaves pixels.
+#[test]
+fn a_tilted_pinholes_marks_are_placed_at_their_heights() {
+    use ringlab_core::config::load_preset;
+    use ringlab_core::recording::synth::{SynthOptions, synthesize};
+    let case = load_preset("paper-ring").expect("preset").build().expect("case");
+    let opts = SynthOptions {
+        noise_px: 0.0,
+        camera_distance_mm: Some(600.0),
+        camera_tilt_deg: 25.0,
+        camera_in_header: true,
+        ..SynthOptions::default()
+    };
+    let s = synthesize(&case, &opts).expect("synthesized");
+    let m = recover(&s.recording).expect("recovered");
+    let scatter = m.pose_scatter_px.expect("a scatter");
+    let mut flat = s.recording.clone();
+    (flat.header.camera_distance_mm, flat.header.camera_tilt_deg) = (None, None);
+    let flat = recover(&flat).expect("recovered").pose_scatter_px.expect("a scatter");
+    // A tenth of a pixel is left (not yet understood: docs/film.md); onto the table, pixels.
+    assert!(scatter < 0.15 && scatter < flat / 10.0, "{scatter} px against {flat} px");
+}

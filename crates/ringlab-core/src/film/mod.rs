@@ -8,6 +8,7 @@
 
 pub mod acquire;
 pub mod brief;
+pub mod camera_fit;
 pub mod centre;
 pub mod choice;
 pub mod error;
@@ -27,13 +28,14 @@ pub mod stray_hue;
 pub mod style;
 pub mod timestamps;
 
+pub use camera_fit::{CameraGiven, RingCamera};
 pub use frame::Frame;
 pub use scale::RingScale;
 pub use source::{FilmInfo, FilmSource, VIDEO_EXTENSIONS, is_film};
 
 use crate::physics::Shape;
 use crate::recording::import::BodyMm;
-use crate::recording::marks::mark_radius;
+use crate::recording::marks::{MarkGeometry, MarkOrder, mark_radius};
 use crate::recording::{Camera, FrameMarks, Header, Recording, is_usable};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -128,6 +130,9 @@ pub struct TrackOptions {
     pub fps: Option<f64>,
     /// The scale; `None`: measured from the ring.
     pub px_per_mm: Option<f64>,
+    /// The camera's distance and tilt where known; what is not given is measured from the
+    /// ring ([`camera_fit`]).
+    pub camera: camera_fit::CameraGiven,
     pub body: BodyMm,
 }
 
@@ -150,6 +155,7 @@ impl TrackOptions {
             to_frame: None,
             fps: None,
             px_per_mm: None,
+            camera: camera_fit::CameraGiven::default(),
             body,
         }
     }
@@ -203,6 +209,10 @@ pub enum FilmErrorKind {
     NoScale,
     #[error("{0}")]
     Options(String),
+    #[error(
+        "the table's scale cannot be measured through the camera given (fewer than 20 frames with all four marks): give --px-per-mm too"
+    )]
+    NoCameraScale,
     #[error("cancelled")]
     Cancelled,
 }
@@ -242,6 +252,9 @@ pub struct TrackReport {
     pub tracker_sigma_px: Option<f64>,
     /// The scale from the ring (also where `--px-per-mm` was given, as a check).
     pub ring_scale: Option<RingScale>,
+    /// The camera fitted from the ring (distance, tilt, the table's scale), where it was
+    /// fitted; written in the header where given or a tripod's ([`RingCamera::is_tripod`]).
+    pub camera: Option<RingCamera>,
     /// The scale written: given, or from the ring.
     pub px_per_mm: f64,
     pub notes: Vec<String>,
@@ -275,6 +288,48 @@ fn mark_radius_mm(body: &BodyMm) -> f64 {
     }
 }
 
+/// The camera fitted from the ring with what the options give held (`camera_fit`); an error
+/// where a camera given is impossible, or where it was given but neither it nor the scale can
+/// be had from the ring.
+fn ring_camera(
+    opts: &TrackOptions,
+    info: &FilmInfo,
+    frames: &[FrameMarks],
+    ring_scale: Option<&RingScale>,
+) -> Result<Option<RingCamera>, FilmErrorKind> {
+    let body = &opts.body;
+    let geometry = MarkGeometry {
+        radius: mark_radius_mm(body),
+        r_outer: body.outer_radius_mm,
+        h: body.width_mm,
+        order: MarkOrder::Forward,
+    };
+    let start = ring_scale.map(|rs| rs.table.map_or(rs.px_per_mm, |t| t.px_per_mm));
+    let Some(start) = opts.px_per_mm.or(start) else { return Ok(None) };
+    let size = [info.width as f64, info.height as f64];
+    let fitted = camera_fit::fit_camera(frames, geometry, size, start, opts.camera, opts.px_per_mm);
+    if fitted.is_none() && opts.camera.any() && opts.px_per_mm.is_none() {
+        return Err(FilmErrorKind::NoCameraScale);
+    }
+    Ok(fitted)
+}
+
+/// The note of a tripod's camera.
+fn camera_note(c: &RingCamera) -> String {
+    let distance = c.distance_mm.map_or("far".to_string(), |d| {
+        format!("{d:.0} +- {:.0} mm from the table", c.distance_sigma_mm)
+    });
+    let how = if c.given.any() {
+        "the camera given, what was not given fitted from the ring"
+    } else {
+        "a camera on a tripod, fitted from the ring over many frames"
+    };
+    format!(
+        "{how}: {distance}, tilted {:.2} +- {:.2} degrees from the vertical; the table's scale under the image centre {:.4} +- {:.4} px/mm; the marks' figure through it {:.3} px (through a far camera looking straight down {:.3} px); written in the header",
+        c.tilt_deg, c.tilt_sigma_deg, c.px_per_mm, c.px_per_mm_sigma, c.figure_px, c.far_figure_px
+    )
+}
+
 /// Tracks a film (a video file or a folder of frames): see the module's stages.
 /// `progress(done, total)` after each frame; `cancel` is looked at between frames.
 pub fn track(
@@ -284,6 +339,8 @@ pub fn track(
     cancel: &AtomicBool,
 ) -> Result<TrackedFilm, FilmError> {
     let err = |kind| FilmError::new(path, kind);
+    let tallest = 2.0 * opts.body.outer_radius_mm + opts.body.width_mm;
+    camera_fit::check_given(&opts.camera, tallest).map_err(|m| err(FilmErrorKind::Options(m)))?;
     let mut source = FilmSource::open(path)?;
     let info = source.info().clone();
     let fps = opts.fps.or(info.fps).ok_or(err(FilmErrorKind::NeedsFps))?;
@@ -481,10 +538,18 @@ fn assemble(
         let size = [info.width as f64, info.height as f64];
         notes.extend(pose_error::check_near_camera(rs, &frames, size, mark_radius_mm(body)));
     }
-    let px_per_mm = match (opts.px_per_mm, &ring_scale) {
+    let camera = ring_camera(opts, info, &frames, ring_scale.as_ref()).map_err(err)?;
+    let tripod = camera.filter(RingCamera::is_tripod);
+    if let Some(c) = &tripod {
+        // The tripod's camera answers what the straight-down view's scale could not.
+        notes.clear();
+        notes.push(camera_note(c));
+    }
+    let from_tripod = tripod.filter(|_| opts.px_per_mm.is_none()).map(|c| c.px_per_mm);
+    let px_per_mm = match (opts.px_per_mm.or(from_tripod), &ring_scale) {
         (Some(s), Some(rs)) => {
             let off = rs.px_per_mm / s - 1.0;
-            if off.abs() > 0.03 {
+            if off.abs() > 0.03 && tripod.is_none() {
                 notes.push(format!(
                     "the ring measures {:.4} px/mm, {:+.1}% from the --px-per-mm given: check the body's size",
                     rs.px_per_mm,
@@ -499,6 +564,7 @@ fn assemble(
     };
     if let Some(rs) = &ring_scale
         && rs.camera_is_near()
+        && tripod.is_none()
     {
         notes.push(match rs.table {
             Some(t) => format!(
@@ -527,7 +593,7 @@ fn assemble(
             v[v.len() / 2]
         })
     });
-    let near = ring_scale.as_ref().is_some_and(RingScale::camera_is_near);
+    let near = tripod.is_none() && ring_scale.as_ref().is_some_and(RingScale::camera_is_near);
     // Through a near camera, the marks' circle posed in each frame through the pinhole fitted
     // with the scale checks the centres instead of the parallelogram, where that pinhole is
     // known well enough: a wrong distance leaves a residual of its own in every pose.
@@ -540,6 +606,7 @@ fn assemble(
             ..Camera::centred(px_per_mm, info.width as f64, info.height as f64)
         });
     let tracker_sigma_px = match (near, near_camera) {
+        _ if tripod.is_some() => tripod.map(|c| c.figure_px),
         (false, _) => error::closure_sigma(&frames),
         (true, Some(cam)) => pose_error::pinhole_closure_sigma(&frames, &cam, mark_radius_mm(body)),
         (true, None) => None,
@@ -609,6 +676,10 @@ fn assemble(
         extra.push((TRACKER_SIGMA_KEY.to_string(), format!("{s:.3}")));
     }
     if opts.px_per_mm.is_none()
+        && let Some(c) = &tripod
+    {
+        extra.push(("px_per_mm_from".to_string(), camera_fit::scale_from(c)));
+    } else if opts.px_per_mm.is_none()
         && let Some(rs) = &ring_scale
     {
         let from = match rs.table {
@@ -633,8 +704,8 @@ fn assemble(
         },
         image_width_px: Some(info.width as f64),
         image_height_px: Some(info.height as f64),
-        camera_distance_mm: None,
-        camera_tilt_deg: None,
+        camera_distance_mm: tripod.and_then(|c| c.distance_mm).or(opts.camera.distance_mm),
+        camera_tilt_deg: tripod.map(|c| c.tilt_deg).or(opts.camera.tilt_deg),
         extra,
     };
     let marks_found = frames.iter().map(|f| f.iter().flatten().count()).sum();
@@ -657,6 +728,7 @@ fn assemble(
         centre_sigma_px,
         tracker_sigma_px,
         ring_scale,
+        camera,
         px_per_mm,
         notes,
     };

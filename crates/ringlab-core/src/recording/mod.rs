@@ -23,6 +23,7 @@ pub mod marks;
 pub mod motion_table;
 pub mod noise;
 pub mod pose;
+pub mod pose_seen;
 pub mod read;
 pub mod recover;
 pub mod rng;

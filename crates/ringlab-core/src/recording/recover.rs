@@ -25,6 +25,7 @@
 use super::camera::Camera;
 use super::marks::{MarkGeometry, MarkOrder};
 use super::pose::{PoseFit, fit_pose, initial_pose, point_a};
+use super::pose_seen::marks_on_table;
 use super::smooth::{Extremum, extrema, local_quadratic, smooth};
 use super::tracks::check_tracks;
 use super::{FrameMarks, Recording};
@@ -129,10 +130,13 @@ pub fn recover(rec: &Recording) -> Result<RecoveredMotion, RecoverError> {
 pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, RecoverError> {
     let body_mm = rec.header.body_mm().map_err(RecoverError::Body)?;
     let fps = rec.header.fps;
-    let marks_mm: Vec<FrameMarks> =
+    let flat: Vec<FrameMarks> =
         rec.frames.iter().map(|f| f.map(|m| m.map(|p| camera.to_mm(p)))).collect();
-    let mark_order = mark_order(&marks_mm);
+    let mark_order = mark_order(&flat);
     let geometry_mm = MarkGeometry::of_body(&body_mm, mark_order);
+    // A camera that sees height sees each mark where its ray meets the mark's height, not the
+    // table: the marks mapped onto the plan through their frames' poses in space.
+    let marks_mm = marks_on_table(&rec.frames, &geometry_mm, &camera);
     let fits: Vec<Option<PoseFit>> = marks_mm
         .par_iter()
         .map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s)))

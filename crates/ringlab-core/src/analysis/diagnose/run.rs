@@ -29,7 +29,7 @@ use crate::physics::Initial;
 use crate::physics::effects::EffectKind;
 use crate::recording::glitches::{Glitch, find_glitches_against};
 use crate::recording::tracks::{CheckedTracks, check_tracks, with_more_glitches};
-use crate::recording::{FrameMarks, MARKS, Recording};
+use crate::recording::{Camera, FrameMarks, MARKS, Recording};
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
 use web_time::Instant;
@@ -241,7 +241,10 @@ fn suspects(rec: &Recording, opts: &DiagnoseOptions) -> Result<DiagnoseOptions, 
             opts.evidence
         )));
     }
-    let camera_known = rec.header.camera_distance_mm.is_some();
+    // A camera a tracker fitted from the ring (its scale `scale_free`) is a start, not known:
+    // the motion places it better, so the effect that fits it stays a suspect.
+    let camera_known = rec.header.camera_distance_mm.is_some()
+        && !Camera::for_recording(&rec.header, &rec.frames).scale_free;
     Ok(DiagnoseOptions {
         candidates: opts
             .candidates

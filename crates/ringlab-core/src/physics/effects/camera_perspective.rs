@@ -11,9 +11,10 @@ use super::{USUAL_IN_PLAN, InPlan,
     usual_scan,
 };
 
-/// The largest camera tilt a fit may try (degrees): beyond, a lab would not call the camera
-/// one that looks down on the table.
-pub const MAX_FITTED_TILT_DEG: f64 = 30.0;
+/// The largest camera tilt a fit may try (degrees): a tripod beside the table tilts its camera
+/// up to 45 degrees from the vertical; beyond, a lab would not call the camera one that looks
+/// down on the table.
+pub const MAX_FITTED_TILT_DEG: f64 = 50.0;
 
 pub struct Effect;
 impl Terms for Effect {

@@ -323,7 +323,8 @@ pub struct InPlan {
     /// goes on with the better, and a pair with it keeps the way its own fit chose.
     pub two_starts: bool,
     /// It stands in for the camera a header can give (its distance): where the header gives
-    /// it, every model uses that camera and this effect is no suspect.
+    /// it, every model uses that camera, and this effect is no suspect unless that camera is
+    /// a tracker's fit from the ring (`scale_free`), which it then starts from.
     pub header_camera: bool,
     /// The extra (an index into `extras`) that shapes the effect's law away from the paper's:
     /// where it fitted alone away from its start, a pair it leads is also walked with the
