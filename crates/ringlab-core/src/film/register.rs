@@ -99,7 +99,7 @@ impl Level {
     }
 
     /// A luma point in this level's samples.
-    fn from_luma(&self, p: [f64; 2]) -> [f64; 2] {
+    fn sample_of_luma(&self, p: [f64; 2]) -> [f64; 2] {
         let o = (self.factor - 1.0) / 2.0;
         [(p[0] - o) / self.factor, (p[1] - o) / self.factor]
     }
@@ -238,7 +238,7 @@ impl Reference {
 /// the ring's disc and a sample from the edge.
 fn strong_samples(l: &Level, ring: Option<Disc>) -> Vec<Sample> {
     let mut all = Vec::with_capacity(l.width * l.height);
-    let disc = ring.map(|d| (l.from_luma(d.centre), d.radius / l.factor));
+    let disc = ring.map(|d| (l.sample_of_luma(d.centre), d.radius / l.factor));
     for v in 1..l.height.saturating_sub(1) {
         for u in 1..l.width.saturating_sub(1) {
             if let Some((c, r)) = disc
@@ -337,10 +337,11 @@ impl Solve {
         centre: [f64; 2],
         ring: Option<Disc>,
     ) -> Normal {
-        let c = level.from_luma(centre);
+        let c = level.sample_of_luma(centre);
         let (s, co) = self.pose.turn_rad.sin_cos();
         let t = [self.pose.shift_px[0] / level.factor, self.pose.shift_px[1] / level.factor];
-        let disc = ring.map(|d| (level.from_luma(d.centre), (d.radius / level.factor).powi(2)));
+        let disc =
+            ring.map(|d| (level.sample_of_luma(d.centre), (d.radius / level.factor).powi(2)));
         let huber = HUBER * self.spread;
         let mut n = Normal::default();
         for sm in samples {
