@@ -19,7 +19,7 @@ const MASK_MARGIN_PX: f64 = 16.0;
 const ELSEWHERE: f64 = 1.5;
 /// A film is taken as hand-held where the camera moves a point of the image by more than this
 /// (px) in at least `MOVING_SHARE` of the frames...
-const MIN_MOTION_PX: f64 = 0.5;
+const MIN_MOTION_PX: f64 = 3.0;
 const MOVING_SHARE: f64 = 0.05;
 /// ...and by more than this many times the registration's own error.
 const NOISE_FACTOR: f64 = 10.0;
@@ -53,8 +53,12 @@ pub struct CameraMotion {
     reference: Option<Reference>,
     /// Each frame's pose, by slot (`None`: not registered).
     poses: Vec<Option<Registration>>,
-    /// The pose of the image the follower holds now.
+    /// The pose of the image the follower holds now: the first frame's until the camera is
+    /// first seen moving more than `MIN_MOTION_PX`, so that a still camera's registration
+    /// noise never reaches the follower.
     held: CameraPose,
+    /// The last pose found: where the next frame's search starts.
+    last: CameraPose,
     /// The marks' semi-major axis (px), the largest seen.
     ring_px: f64,
 }
@@ -88,16 +92,21 @@ impl CameraMotion {
         let (Some(reference), Some(levels)) = (&self.reference, Pyramid::of(frame)) else {
             return;
         };
-        let Some(found) = reference.register(&levels, disc, self.held) else { return };
+        let Some(found) = reference.register(&levels, disc, self.last) else { return };
+        self.last = found.pose;
         let centre = reference.centre();
-        if let Some(f) = follower {
+        let moving = self.held != CameraPose::default()
+            || found.pose.displacement(reference.reach()) > MIN_MOTION_PX;
+        if let Some(f) = follower.filter(|_| moving) {
             let (from, to) = (self.held, found.pose);
             f.follow_camera(
                 &|p| to.to_image(from.to_table(p, centre), centre),
                 to.turn_rad - from.turn_rad,
             );
         }
-        self.held = found.pose;
+        if moving {
+            self.held = found.pose;
+        }
         self.set(slot, found);
     }
 
