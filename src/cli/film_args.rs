@@ -90,6 +90,14 @@ pub fn describe(t: &TrackedFilm) -> Vec<String> {
             "centre's error from the pixels' noise (median, px per coordinate), marks 1-4: {sig}"
         ),
     ];
+    let m = &r.camera_motion;
+    out.push(format!(
+        "camera's motion from the table: up to {:.2} px and {:.3} degrees from the first frame (registration error {:.3} px){}",
+        m.largest_shift_px,
+        m.largest_turn_deg,
+        m.registration_sigma_px,
+        if m.hand_held { ": held in the hand, marks written in the first frame's camera" } else { ": still, marks written as seen" }
+    ));
     if r.renumbered_after_loss > 0 {
         out.push(format!(
             "dots found again after {} losses numbered as before from the ring's turning across each",

@@ -77,7 +77,9 @@ pub fn run(args: &TrackArgs) -> Result<()> {
     write_whole(&args.out, &bytes)?;
     if let Some(path) = &args.overlay {
         let model = if args.fit { Some(fitted_marks(&tracked.recording)?) } else { None };
-        write_overlay_film(&args.film, &opts, &tracked.recording, model.as_deref(), path)?;
+        // The overlay draws the film as taken: the marks where they were seen in it (the
+        // model's, fitted in the table's frame, drawn there too).
+        write_overlay_film(&args.film, &opts, &tracked.as_seen(), model.as_deref(), path)?;
         println!("overlay written: {}", path.display());
     }
     if args.json {

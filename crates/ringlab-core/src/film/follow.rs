@@ -393,6 +393,24 @@ impl Follower {
         }
     }
 
+    /// The camera moved between the last frame and the next: what the follower holds of
+    /// the past frames is carried into the next frame's image by `moved` (a rigid motion of
+    /// the image turning it by `turn_rad`), so that its predictions follow the ring and not
+    /// the camera.
+    pub fn follow_camera(&mut self, moved: &dyn Fn([f64; 2]) -> [f64; 2], turn_rad: f64) {
+        for m in &mut self.marks {
+            for (_, p) in &mut m.history {
+                *p = moved(*p);
+            }
+        }
+        for (_, c) in &mut self.centres {
+            *c = moved(*c);
+        }
+        if let Some((_, f)) = &mut self.figure {
+            *f = f.turned(turn_rad);
+        }
+    }
+
     /// Where mark `k` should be in frame `index`, and how far it may be from there.
     fn predict(&self, k: usize, index: u64) -> Option<([f64; 2], f64)> {
         let h = &self.marks[k].history;

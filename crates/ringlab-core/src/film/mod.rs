@@ -9,6 +9,7 @@
 pub mod acquire;
 pub mod brief;
 pub mod camera_fit;
+pub mod camera_motion;
 pub mod centre;
 pub mod choice;
 pub mod error;
@@ -20,6 +21,7 @@ pub mod join;
 pub mod lost;
 pub mod phase;
 pub mod pose_error;
+pub mod register;
 pub mod rim;
 pub mod scale;
 pub mod source;
@@ -29,6 +31,7 @@ pub mod style;
 pub mod timestamps;
 
 pub use camera_fit::{CameraGiven, RingCamera};
+pub use camera_motion::CameraMotionReport;
 pub use frame::Frame;
 pub use scale::RingScale;
 pub use source::{FilmInfo, FilmSource, VIDEO_EXTENSIONS, is_film};
@@ -257,6 +260,9 @@ pub struct TrackReport {
     pub camera: Option<RingCamera>,
     /// The scale written: given, or from the ring.
     pub px_per_mm: f64,
+    /// The camera's own motion measured from the table (always), and whether the marks were
+    /// written in the first frame's camera for it (`camera_motion`).
+    pub camera_motion: CameraMotionReport,
     pub notes: Vec<String>,
 }
 
@@ -266,6 +272,16 @@ pub struct TrackedFilm {
     pub recording: Recording,
     pub sigma: Vec<[Option<f64>; 4]>,
     pub report: TrackReport,
+    /// The marks where they were seen in each frame's image (the recording's, moved back by
+    /// the camera's motion where the film was hand-held): what an overlay draws on the film.
+    pub seen: Vec<FrameMarks>,
+}
+
+impl TrackedFilm {
+    /// The recording with the marks where they were seen in the film as taken.
+    pub fn as_seen(&self) -> Recording {
+        Recording { frames: self.seen.clone(), ..self.recording.clone() }
+    }
 }
 
 fn semi_major_range(opts: &TrackOptions, info: &FilmInfo) -> (f64, f64) {
@@ -377,6 +393,9 @@ pub fn track(
     let mut ambiguous = 0usize;
     // Slots where dots were found anew after a loss, numbered by a guess.
     let mut new_numbering = Vec::new();
+    let mut camera = camera_motion::CameraMotion::default();
+    // The last marks found: where the ring is near the next frame, for its registration.
+    let mut ring_seen: FrameMarks = [None; 4];
     let mut index = opts.from_frame;
     loop {
         if opts.to_frame.is_some_and(|to| index > to) {
@@ -387,6 +406,10 @@ pub fn track(
         }
         if !source.next_frame(&mut frame)? {
             break;
+        }
+        let slot = (index - opts.from_frame) as usize;
+        if slot == 0 {
+            camera.first_frame(&frame);
         }
         let result = match follower.as_mut() {
             None => {
@@ -405,15 +428,23 @@ pub fn track(
                     Some(run) => {
                         acquired_at = Some(run.first.0);
                         let at = opts.from_frame;
-                        let (f, last) = follow_run(run, style, roi, range, at, &mut tracks);
+                        let mut run_tracks =
+                            RunTracks { first: at, tracks: &mut tracks, camera: &mut camera };
+                        let (f, last) = follow_run(run, style, roi, range, &mut run_tracks);
                         follower = Some(f);
                         last
                     }
                     None => follow::FrameResult::default(),
                 }
             }
-            Some(f) => f.step(&frame, index),
+            Some(f) => {
+                camera.register(slot, &frame, &ring_seen, false, Some(&mut *f));
+                f.step(&frame, index)
+            }
         };
+        if result.marks.iter().any(Option::is_some) {
+            ring_seen = result.marks;
+        }
         ambiguous += result.ambiguous;
         if result.new_numbering {
             new_numbering.push(tracks.frames.len());
@@ -424,13 +455,38 @@ pub fn track(
     }
     let reacquired = follower.as_ref().map_or(0, |f| f.refound);
     let Tracks { mut frames, mut sigma, hues } = tracks;
+    let camera = camera.finish(frames.len());
+    let mut motion = camera.report(&frames);
+    if motion.hand_held {
+        camera.to_table(&mut frames, &mut sigma, &mut motion);
+    }
     let joined = join::number_across_losses(&mut frames, &mut sigma, &new_numbering);
     let off_size = spread::leave_out_off_size(&mut frames, &mut sigma);
     let stray_hue = stray_hue::leave_out_stray_hues(&mut frames, &mut sigma, &hues);
     let unchecked = few::leave_out_unchecked(&mut frames, &mut sigma);
     let glimpses = brief::leave_out_glimpses(&mut frames, &mut sigma);
-    let counts = Counts { ambiguous, reacquired, joined, off_size, stray_hue, unchecked, glimpses };
-    assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)
+    let counts = Counts {
+        ambiguous,
+        reacquired,
+        joined,
+        off_size,
+        stray_hue,
+        unchecked,
+        glimpses,
+        camera: motion,
+    };
+    let seen = if counts.camera.hand_held { camera.to_image(&frames) } else { frames.clone() };
+    let mut tracked = assemble(path, opts, &info, fps, style, acquired_at, frames, sigma, counts)?;
+    tracked.seen = seen;
+    Ok(tracked)
+}
+
+/// Where an acquisition's run is followed: the film's first frame tracked, the tracks so
+/// far, the camera's registration.
+struct RunTracks<'a> {
+    first: u64,
+    tracks: &'a mut Tracks,
+    camera: &'a mut camera_motion::CameraMotion,
 }
 
 /// Follows the ring from the first frame of the run that acquired it (`acquire`) through the
@@ -442,16 +498,18 @@ fn follow_run(
     style: MarkStyle,
     roi: Roi,
     range: (f64, f64),
-    first: u64,
-    tracks: &mut Tracks,
+    to: &mut RunTracks,
 ) -> (follow::Follower, follow::FrameResult) {
     let (index, frame, found) = run.first;
     let mut f = follow::Follower::new(style, &found, &frame, index, roi, range);
     let mut result = f.acquired();
+    to.camera.register((index - to.first) as usize, &frame, &result.marks, true, None);
     let mut ambiguous = 0;
     let mut at = index;
     for (index, frame) in run.rest {
-        tracks.set((at - first) as usize, &result);
+        to.tracks.set((at - to.first) as usize, &result);
+        let slot = (index - to.first) as usize;
+        to.camera.register(slot, &frame, &result.marks, false, Some(&mut f));
         result = f.step(&frame, index);
         ambiguous += result.ambiguous;
         at = index;
@@ -496,6 +554,8 @@ struct Counts {
     unchecked: usize,
     /// Marks left out, seen in too few frames in a row (`brief`).
     glimpses: usize,
+    /// The camera's own motion (`camera_motion`).
+    camera: CameraMotionReport,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -510,7 +570,16 @@ fn assemble(
     sigma: Vec<[Option<f64>; 4]>,
     counts: Counts,
 ) -> Result<TrackedFilm, FilmError> {
-    let Counts { ambiguous, reacquired, joined, off_size, stray_hue, unchecked, glimpses } = counts;
+    let Counts {
+        ambiguous,
+        reacquired,
+        joined,
+        off_size,
+        stray_hue,
+        unchecked,
+        glimpses,
+        camera: motion,
+    } = counts;
     let err = |kind| FilmError::new(path, kind);
     let Some(acquired_at) = acquired_at else {
         return Err(err(FilmErrorKind::NoMarks {
@@ -638,6 +707,7 @@ fn assemble(
         ));
     }
     notes.extend(lost::lost_note(&frames, opts.from_frame));
+    notes.extend(camera_motion::camera_note(&motion));
     if joined.unsettled > 0 {
         notes.push(format!(
             "{} marks left out in {} stretches after a loss: dots found anew there that the ring's turning across the loss could not number as the rest",
@@ -730,8 +800,9 @@ fn assemble(
         ring_scale,
         camera,
         px_per_mm,
+        camera_motion: motion,
         notes,
     };
     let recording = Recording { header, first_frame: opts.from_frame, frames };
-    Ok(TrackedFilm { recording, sigma, report })
+    Ok(TrackedFilm { recording, sigma, report, seen: Vec::new() })
 }

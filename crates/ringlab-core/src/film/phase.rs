@@ -27,6 +27,12 @@ impl Figure {
     }
 
     /// The ellipse's semi-minor axis (px).
+    /// The same figure seen through an image turned by `turn_rad` (a camera that turned).
+    pub fn turned(&self, turn_rad: f64) -> Figure {
+        let r = Matrix2::new(turn_rad.cos(), -turn_rad.sin(), turn_rad.sin(), turn_rad.cos());
+        Figure { from_circle: r * self.from_circle, to_circle: self.to_circle * r.transpose() }
+    }
+
     pub fn minor_axis(&self) -> f64 {
         let (u, v) = (self.from_circle.column(0), self.from_circle.column(1));
         super::find::ellipse_axes([u.x, u.y], [v.x, v.y]).1
