@@ -61,10 +61,9 @@ pub struct RingCamera {
 /// How much better than a far straight-down camera a fitted one must close the marks' figure
 /// to be believed (as `scale::NEAR_FIGURE_GAIN` for the ring's scale).
 pub const CAMERA_FIGURE_GAIN: f64 = 0.7;
-/// The least tilt (degrees) for which a fitted camera is written in the recording: below it
-/// the camera looks down on the table, and its perspective is left to the ring's scale fit and
-/// the diagnosis's pinhole (`camera_perspective`), which fit it with the motion.
-pub const TRIPOD_TILT_DEG: f64 = 10.0;
+/// The least tilt for which a fitted camera is written in the recording (defined with the
+/// camera).
+pub use crate::recording::camera::TRIPOD_TILT_DEG;
 /// Frames fitted at most (evenly spread over those with four marks).
 const MAX_FRAMES: usize = 400;
 /// Frames for the starts.

@@ -53,6 +53,11 @@ pub struct Camera {
     pub scale_free: bool,
 }
 
+/// The least tilt (degrees) of a tripod's camera: below it the camera looks down on the table
+/// (a tracker leaves its perspective to the ring's scale fit and the diagnosis's pinhole,
+/// `camera_perspective`, which fit it with the motion, and `recover` maps marks flat).
+pub const TRIPOD_TILT_DEG: f64 = 10.0;
+
 /// The start of the header's `px_per_mm_from` where a tracker fitted the table's scale from the
 /// ring through a near camera.
 pub const NEAR_RING_SCALE: &str = "ring through a near camera";

@@ -23,6 +23,7 @@
 //! converts.
 
 use super::camera::Camera;
+use super::camera::TRIPOD_TILT_DEG;
 use super::marks::{MarkGeometry, MarkOrder};
 use super::pose::{PoseFit, fit_pose, initial_pose, point_a};
 use super::pose_seen::marks_on_table;
@@ -134,9 +135,12 @@ pub fn recover_with(rec: &Recording, camera: Camera) -> Result<RecoveredMotion, 
         rec.frames.iter().map(|f| f.map(|m| m.map(|p| camera.to_mm(p)))).collect();
     let mark_order = mark_order(&flat);
     let geometry_mm = MarkGeometry::of_body(&body_mm, mark_order);
-    // A camera that sees height sees each mark where its ray meets the mark's height, not the
-    // table: the marks mapped onto the plan through their frames' poses in space.
-    let marks_mm = marks_on_table(&rec.frames, &geometry_mm, &camera);
+    // A camera tilted as a tripod's sees each mark where its ray meets the mark's height, far
+    // from where it meets the table: the marks mapped onto the plan through their frames'
+    // poses in space. A camera looking down (a near one included) keeps the flat mapping, the
+    // start the diagnosis's fits through a pinhole were made for.
+    let tripod = camera.tilt_rad.abs() >= TRIPOD_TILT_DEG.to_radians();
+    let marks_mm = if tripod { marks_on_table(&rec.frames, &geometry_mm, &camera) } else { flat };
     let fits: Vec<Option<PoseFit>> = marks_mm
         .par_iter()
         .map(|m| initial_pose(m, &geometry_mm).map(|s| fit_pose(m, &geometry_mm, s)))
