@@ -98,12 +98,15 @@ pub fn describe(t: &TrackedFilm) -> Vec<String> {
         m.registration_sigma_px,
         if m.hand_held { ": held in the hand, marks written in the first frame's camera" } else { ": still, marks written as seen" }
     ));
-    if r.renumbered_after_loss > 0 {
+    let renumbered = r.stage("join").map_or(0, |s| s.renumbered);
+    if renumbered > 0 {
         out.push(format!(
-            "dots found again after {} losses numbered as before from the ring's turning across each",
-            r.renumbered_after_loss
+            "dots found again after {renumbered} losses numbered as before from the ring's turning across each"
         ));
     }
+    let stages: Vec<String> =
+        r.stages.iter().map(|s| format!("{} {}", s.name, s.left_out)).collect();
+    out.push(format!("marks left out by the stages after the follower: {}", stages.join(", ")));
     if let Some(s) = &r.ring_scale {
         out.push(format!(
             "scale from the ring: {:.4} +- {:.4} px/mm over {} frames, holding {:.1} mm above the table{}",

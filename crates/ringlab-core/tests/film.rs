@@ -194,7 +194,8 @@ fn a_whole_phone_film_keeps_look_alikes_out_of_its_opening() {
     assert!(c.found >= 0.85, "found {:.1}%", 100.0 * c.found);
     assert_eq!((c.swaps, c.extra), (0, 0), "swaps, marks where the rim hides them");
     let r = &t.report;
-    assert!(r.left_out_off_size > 0 && r.left_out_stray_hue > 0 && r.left_out_unchecked > 0);
+    assert!(r.left_out_by("spread") > 0 && r.left_out_by("stray_hue") > 0);
+    assert!(r.left_out_by("few") > 0);
     assert!(r.notes.iter().any(|n| n.contains("wider or narrower than the ring")));
     assert!(r.notes.iter().any(|n| n.contains("hue strayed")));
     assert!(r.notes.iter().any(|n| n.contains("where the ring was mostly lost")));
@@ -287,7 +288,8 @@ fn dots_found_again_after_the_ring_was_hidden_are_numbered_as_before() {
     assert!(c.rms <= 1.4, "rms {:.3} px", c.rms);
     assert!(c.found >= 0.98, "found {:.1}%", 100.0 * c.found);
     assert_eq!((c.far, c.swaps, c.extra), (0, 0, 0), "far, swaps, marks where none is seen");
-    assert_eq!((t.report.renumbered_after_loss, t.report.left_out_unnumbered), (1, 0));
+    let join = t.report.stage("join").expect("the join stage ran");
+    assert_eq!((join.renumbered, join.left_out), (1, 0));
     // The same numbering after the loss as before it, to the frame.
     let after: Vec<FrameMarks> = t.recording.frames[360..].to_vec();
     assert_eq!(compare(&after, &truth.frames[360..]).far, 0);
@@ -561,7 +563,8 @@ fn a_cancel_ends_the_tracking_with_nothing() {
 /// settle most of them.
 #[test]
 fn the_turning_numbers_dots_across_losses_and_never_wrongly() {
-    use ringlab_core::film::join::{phase, settle};
+    use ringlab_core::film::stages::join::{phase, settle};
+    use ringlab_core::film::tuning::JoinTuning;
     let mut seed = 12345u64;
     let mut noise = move || {
         // A sum of four uniforms: near normal, 0.3 px standard deviation.
@@ -607,7 +610,7 @@ fn the_turning_numbers_dots_across_losses_and_never_wrongly() {
                 let before = phases(t0 - 16, t0, 0, &mut noise);
                 let after = phases(t0 + gap, t0 + gap + 16, rotate, &mut noise);
                 tried += 1;
-                if let Some(k) = settle(&before, &after) {
+                if let Some(k) = settle(&before, &after, &JoinTuning::default()) {
                     settled += 1;
                     // Numbered from mark `rotate + 1`, the phase is `rotate` quarters ahead.
                     assert_eq!(

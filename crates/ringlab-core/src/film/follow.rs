@@ -11,7 +11,17 @@ use super::find::{Found, find_marks_sized};
 use super::frame::{CHROMA_OFFSET, Frame};
 use super::phase::Figure;
 use super::rim::{RingView, rim_centre};
+use super::tuning::FollowTuning;
 use super::{MarkStyle, Roi};
+
+/// What the follower looks for and where: the marks' style, the region, and the range of
+/// the marks' semi-major axis (px).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Search {
+    pub style: MarkStyle,
+    pub roi: Roi,
+    pub range: (f64, f64),
+}
 use crate::recording::FrameMarks;
 
 /// What one frame gave.
@@ -169,13 +179,14 @@ pub fn least_semi_major(marks: &FrameMarks) -> Option<f64> {
 impl Follower {
     /// Starts from four marks found in frame `index`.
     pub fn new(
-        style: MarkStyle,
+        search: Search,
         found: &Found,
         frame: &Frame,
         index: u64,
-        roi: Roi,
-        range: (f64, f64),
+        tuning: &FollowTuning,
     ) -> Follower {
+        let Search { style, roi, range } = search;
+        debug_assert_eq!(tuning.disc_margins, DISC_MARGINS);
         let polarity = if style == MarkStyle::Bright { Polarity::Bright } else { Polarity::Dark };
         let disc = if style == MarkStyle::Colours {
             0.0

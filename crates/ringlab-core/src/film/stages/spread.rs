@@ -5,20 +5,35 @@
 //! (a near camera's size changes slowly as the ring rolls). Which mark of such a frame is the
 //! look-alike the frame cannot tell: its marks are all left out, and counted.
 
-use super::follow::least_semi_major;
+use super::{Stage, StageContext, StageReport, Track};
+use crate::film::follow::least_semi_major;
+use crate::film::tuning::SpreadTuning;
 use crate::recording::FrameMarks;
 
-/// Frames each side whose four marks give the ring's size.
-const WINDOW: usize = 150;
-/// Frames with four marks needed in the window.
-const LEAST_FOURS: usize = 10;
-/// The size's tolerance: the centres' noise (px) and a near camera's departure from an
-/// affine figure (2% at 400 mm), with room for a camera twice as near or tilted by 20 degrees.
-const TOLERANCE: f64 = 0.08;
-const TOLERANCE_PX: f64 = 1.5;
+/// The stage: the marks of frames off the ring's size left out.
+pub struct Spread;
+
+impl Stage for Spread {
+    fn name(&self) -> &'static str {
+        "spread"
+    }
+    fn run(&self, track: &mut Track, ctx: &StageContext) -> StageReport {
+        let t = &ctx.tuning.spread;
+        let left_out = leave_out_off_size(&mut track.frames, &mut track.sigma, t);
+        StageReport::left_out(self.name(), left_out, || {
+            format!(
+                "{left_out} marks left out in frames whose marks spread wider or narrower than the ring (a look-alike among them)"
+            )
+        })
+    }
+}
 
 /// Leaves out the marks of frames not of the ring's size; returns how many were left out.
-pub fn leave_out_off_size(frames: &mut [FrameMarks], sigma: &mut [[Option<f64>; 4]]) -> usize {
+pub fn leave_out_off_size(
+    frames: &mut [FrameMarks],
+    sigma: &mut [[Option<f64>; 4]],
+    tuning: &SpreadTuning,
+) -> usize {
     let fours: Vec<(usize, f64)> = frames
         .iter()
         .enumerate()
@@ -29,8 +44,8 @@ pub fn leave_out_off_size(frames: &mut [FrameMarks], sigma: &mut [[Option<f64>; 
     for i in 0..frames.len() {
         let seen = frames[i].iter().filter(|m| m.is_some()).count();
         let Some(a) = least_semi_major(&frames[i]) else { continue };
-        let Some(size) = size_near(&fours, i) else { continue };
-        let tolerance = TOLERANCE * size + TOLERANCE_PX;
+        let Some(size) = size_near(&fours, i, tuning) else { continue };
+        let tolerance = tuning.tolerance * size + tuning.tolerance_px;
         let off = if seen >= 3 { (a - size).abs() > tolerance } else { a > size + tolerance };
         if off {
             left_out += seen;
@@ -41,12 +56,12 @@ pub fn leave_out_off_size(frames: &mut [FrameMarks], sigma: &mut [[Option<f64>; 
     left_out
 }
 
-/// The median size of the frames with four marks within `WINDOW` of frame `i`.
-fn size_near(fours: &[(usize, f64)], i: usize) -> Option<f64> {
-    let lo = fours.partition_point(|f| f.0 + WINDOW < i);
-    let hi = fours.partition_point(|f| f.0 <= i + WINDOW);
+/// The median size of the frames with four marks within `tuning.window` of frame `i`.
+fn size_near(fours: &[(usize, f64)], i: usize, tuning: &SpreadTuning) -> Option<f64> {
+    let lo = fours.partition_point(|f| f.0 + tuning.window < i);
+    let hi = fours.partition_point(|f| f.0 <= i + tuning.window);
     let mut near: Vec<f64> = fours[lo..hi].iter().map(|f| f.1).collect();
-    if near.len() < LEAST_FOURS {
+    if near.len() < tuning.least_fours {
         return None;
     }
     near.sort_by(|a, b| a.total_cmp(b));
@@ -56,6 +71,7 @@ fn size_near(fours: &[(usize, f64)], i: usize) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::tuning::SpreadTuning;
 
     /// Four marks on a circle of radius `r` seen tilted (`squash` of its height), turned by
     /// `turn`.
@@ -84,7 +100,7 @@ mod tests {
         // Frame 35: two adjacent marks as the ring allows them, on edge.
         frames[35] = [Some([60.0, 100.0]), Some([100.0, 101.0]), None, None];
         let mut sigma = vec![[Some(0.1); 4]; frames.len()];
-        let left_out = leave_out_off_size(&mut frames, &mut sigma);
+        let left_out = leave_out_off_size(&mut frames, &mut sigma, &SpreadTuning::default());
         assert_eq!(left_out, 8);
         assert!(frames[20].iter().all(|m| m.is_none()) && sigma[20][0].is_none());
         assert!(frames[25].iter().all(|m| m.is_none()));
@@ -98,6 +114,6 @@ mod tests {
         let mut frames: Vec<FrameMarks> = (0..5).map(|i| ring(40.0, 0.5, i as f64)).collect();
         frames[2][0] = frames[2][0].map(|p| [p[0] + 50.0, p[1]]);
         let mut sigma = vec![[None; 4]; 5];
-        assert_eq!(leave_out_off_size(&mut frames, &mut sigma), 0);
+        assert_eq!(leave_out_off_size(&mut frames, &mut sigma, &SpreadTuning::default()), 0);
     }
 }

@@ -5,14 +5,28 @@
 //! phone's white balance drifts slowly), and left out where it is farther off than a quarter
 //! of the way to the next mark's hue (four distinct hues lie about a quarter turn apart).
 
+use super::{Stage, StageContext, StageReport, Track};
+use crate::film::tuning::StrayHueTuning;
 use crate::recording::FrameMarks;
 
-/// Frames each side whose hues give the mark's.
-const WINDOW: usize = 300;
-/// Hues needed near a frame for its mark's hue to be known.
-const LEAST_HUES: usize = 20;
-/// The farthest a mark's hue may lie from the mark's (radians).
-pub const STRAY: f64 = 0.4;
+/// The stage: coloured marks of a stray hue left out.
+pub struct StrayHue;
+
+impl Stage for StrayHue {
+    fn name(&self) -> &'static str {
+        "stray_hue"
+    }
+    fn run(&self, track: &mut Track, ctx: &StageContext) -> StageReport {
+        let t = &ctx.tuning.stray_hue;
+        let left_out = leave_out_stray_hues(&mut track.frames, &mut track.sigma, ctx.hues, t);
+        StageReport::left_out(self.name(), left_out, || {
+            format!(
+                "{left_out} marks left out whose hue strayed more than {} rad from the mark's over the frames near (a look-alike, or the blur of a ring on edge)",
+                t.stray
+            )
+        })
+    }
+}
 
 /// Leaves out marks whose hue strays; returns how many. `hues`: by frame, each mark's hue
 /// where found (colours; `None` otherwise, and then nothing is left out).
@@ -20,7 +34,9 @@ pub fn leave_out_stray_hues(
     frames: &mut [FrameMarks],
     sigma: &mut [[Option<f64>; 4]],
     hues: &[[Option<f64>; 4]],
+    tuning: &StrayHueTuning,
 ) -> usize {
+    let StrayHueTuning { window, least_hues, stray } = *tuning;
     let mut left_out = 0;
     for k in 0..4 {
         // Running sums of the unit vectors of the hues found, for means over a window.
@@ -34,16 +50,16 @@ pub fn leave_out_stray_hues(
             sums.push((c + h.cos(), s + h.sin(), n + 1));
         }
         for (j, &(i, h)) in seen.iter().enumerate() {
-            let lo = seen[..j].partition_point(|p| p.0 + WINDOW < i);
-            let hi = j + seen[j..].partition_point(|p| p.0 <= i + WINDOW);
+            let lo = seen[..j].partition_point(|p| p.0 + window < i);
+            let hi = j + seen[j..].partition_point(|p| p.0 <= i + window);
             let (c, s, n) =
                 (sums[hi].0 - sums[lo].0, sums[hi].1 - sums[lo].1, sums[hi].2 - sums[lo].2);
-            if n < LEAST_HUES {
+            if n < least_hues {
                 continue;
             }
             let d = (h - s.atan2(c) + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
                 - std::f64::consts::PI;
-            if d.abs() > STRAY {
+            if d.abs() > stray {
                 frames[i][k] = None;
                 sigma[i][k] = None;
                 left_out += 1;
@@ -56,6 +72,7 @@ pub fn leave_out_stray_hues(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::tuning::StrayHueTuning;
 
     #[test]
     fn a_hue_astray_is_left_out_and_a_slow_drift_is_followed() {
@@ -73,7 +90,8 @@ mod tests {
         for h in &mut hues[10..15] {
             h[2] = Some(0.6);
         }
-        let left_out = leave_out_stray_hues(&mut frames, &mut sigma, &hues);
+        let left_out =
+            leave_out_stray_hues(&mut frames, &mut sigma, &hues, &StrayHueTuning::default());
         assert_eq!(left_out, 5);
         assert!((10..15).all(|i| frames[i][2].is_none() && sigma[i][2].is_none()));
         assert!(frames.iter().all(|f| f[0].is_some() && f[1].is_some() && f[3].is_some()));

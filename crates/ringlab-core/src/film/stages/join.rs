@@ -10,27 +10,34 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::{Stage, StageContext, StageReport, Track};
+use crate::film::tuning::JoinTuning;
 use crate::recording::FrameMarks;
 
-/// Phases used on each side of a loss.
-const WINDOW: usize = 16;
-/// Fewest phases on a side for a fit.
-const FEWEST: usize = 6;
-/// Samples farther apart than this (frames) end a side's window: a phase unwrapped across a
-/// longer hole may have lost whole turns.
-const MOST_APART: usize = 2;
-/// At most this many phases next to the loss may be dropped from a side.
-const MOST_DROPPED: usize = 4;
-/// The phase's noise is taken as at least this (rad): a side that a parabola fits exactly
-/// must not make every shift but one look impossible.
-const LEAST_NOISE: f64 = 0.004;
-/// The shift that fits best is taken where every other adds at least this many times its
-/// extra misfit: a quarter turn five times the curve's own departure over the loss. Tried on
-/// the shared films' true marks with noise, losses of 3 to 320 frames, no shift was wrong.
-const CLEAR: f64 = 25.0;
-/// ...and at least this much over the noise (a chi-square with three degrees of freedom
-/// passes 16.3 once in a thousand).
-const DOUBT: f64 = 100.0;
+/// The stage: dots found anew numbered across each loss, or left out.
+pub struct Join;
+
+impl Stage for Join {
+    fn name(&self) -> &'static str {
+        "join"
+    }
+    fn run(&self, track: &mut Track, ctx: &StageContext) -> StageReport {
+        let (frames, sigma) = (&mut track.frames, &mut track.sigma);
+        let joined = number_across_losses(frames, sigma, ctx.new_numbering, &ctx.tuning.join);
+        let note = (joined.unsettled > 0).then(|| {
+            format!(
+                "{} marks left out in {} stretches after a loss: dots found anew there that the ring's turning across the loss could not number as the rest",
+                joined.marks_left_out, joined.unsettled
+            )
+        });
+        StageReport {
+            name: self.name(),
+            left_out: joined.marks_left_out,
+            renumbered: joined.settled,
+            note,
+        }
+    }
+}
 
 /// What numbering across the losses did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -66,15 +73,20 @@ pub fn phase(m: &FrameMarks) -> Option<f64> {
 }
 
 /// Phases of the frames `range` covers, nearest the loss first (`from_end`: the last
-/// frames), unwrapped, up to [`WINDOW`] of them and none across a long hole.
-fn window(frames: &[FrameMarks], range: std::ops::Range<usize>, from_end: bool) -> Vec<(f64, f64)> {
+/// frames), unwrapped, up to `t.window` of them and none across a long hole.
+fn window(
+    frames: &[FrameMarks],
+    range: std::ops::Range<usize>,
+    from_end: bool,
+    t: &JoinTuning,
+) -> Vec<(f64, f64)> {
     let order: Box<dyn Iterator<Item = usize>> =
         if from_end { Box::new(range.rev()) } else { Box::new(range) };
     let mut out: Vec<(f64, f64)> = Vec::new();
     for i in order {
         let Some(a) = phase(&frames[i]) else { continue };
-        if let Some(&(t, last)) = out.last() {
-            if (t - i as f64).abs() > MOST_APART as f64 {
+        if let Some(&(at, last)) = out.last() {
+            if (at - i as f64).abs() > t.most_apart as f64 {
                 break;
             }
             let a = last + (a - last + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
@@ -83,7 +95,7 @@ fn window(frames: &[FrameMarks], range: std::ops::Range<usize>, from_end: bool) 
         } else {
             out.push((i as f64, a));
         }
-        if out.len() == WINDOW {
+        if out.len() == t.window {
             break;
         }
     }
@@ -94,16 +106,17 @@ fn window(frames: &[FrameMarks], range: std::ops::Range<usize>, from_end: bool) 
 /// the others' parabola: the ring is lost where it is hard to see, and the four found
 /// in the frames beside that are often partly taken from something else. The fewest dropped
 /// whose own misfit is within half again of the least any dropping gives.
-fn settled_in(near_first: &[(f64, f64)]) -> Vec<(f64, f64)> {
+fn settled_in(near_first: &[(f64, f64)], t: &JoinTuning) -> Vec<(f64, f64)> {
     let noise = |m: usize| {
         let rest = &near_first[m..];
         let t0 = rest.iter().map(|p| p.0).sum::<f64>() / rest.len() as f64;
         parabola_misfit(rest, t0).map_or(f64::INFINITY, |r| r / (rest.len() - 3) as f64)
     };
-    let most = MOST_DROPPED.min(near_first.len().saturating_sub(FEWEST));
+    let most = t.most_dropped.min(near_first.len().saturating_sub(t.fewest));
     let noises: Vec<f64> = (0..=most).map(noise).collect();
     let least = noises.iter().copied().fold(f64::INFINITY, f64::min);
-    let m = noises.iter().position(|&n| n <= 1.5 * least + LEAST_NOISE * LEAST_NOISE).unwrap_or(0);
+    let m =
+        noises.iter().position(|&n| n <= 1.5 * least + t.least_noise * t.least_noise).unwrap_or(0);
     near_first[m..].to_vec()
 }
 
@@ -151,15 +164,15 @@ fn line_at(points: &[(f64, f64)], t: f64) -> f64 {
 
 /// The quarter turns to add to the phases after a loss (`after`) to join those before it
 /// (`before`); `None` where no shift, or more than one, fits.
-pub fn settle(before: &[(f64, f64)], after: &[(f64, f64)]) -> Option<i64> {
-    if before.len() < FEWEST || after.len() < FEWEST {
+pub fn settle(before: &[(f64, f64)], after: &[(f64, f64)], t: &JoinTuning) -> Option<i64> {
+    if before.len() < t.fewest || after.len() < t.fewest {
         return None;
     }
-    let mut before = settled_in(&before.iter().rev().copied().collect::<Vec<_>>());
+    let mut before = settled_in(&before.iter().rev().copied().collect::<Vec<_>>(), t);
     before.reverse();
-    let after = settled_in(after);
+    let after = settled_in(after, t);
     let (before, after) = (&before[..], &after[..]);
-    if before.len() < FEWEST || after.len() < FEWEST {
+    if before.len() < t.fewest || after.len() < t.fewest {
         return None;
     }
     let quarter = std::f64::consts::FRAC_PI_2;
@@ -167,7 +180,7 @@ pub fn settle(before: &[(f64, f64)], after: &[(f64, f64)]) -> Option<i64> {
     let t_after = after.iter().map(|p| p.0).sum::<f64>() / after.len() as f64;
     let own = parabola_misfit(before, t_before)? + parabola_misfit(after, t_after)?;
     let dof = (before.len() + after.len() - 6) as f64;
-    let noise = (own / dof).max(LEAST_NOISE * LEAST_NOISE);
+    let noise = (own / dof).max(t.least_noise * t.least_noise);
     let mid = (t_before + t_after) / 2.0;
     let guess = ((line_at(before, mid) - line_at(after, mid)) / quarter).round() as i64;
     let mut scores: Vec<(f64, i64)> = (guess - 4..=guess + 4)
@@ -182,7 +195,7 @@ pub fn settle(before: &[(f64, f64)], after: &[(f64, f64)]) -> Option<i64> {
         .collect();
     scores.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (best, second) = (scores.first()?, scores.get(1)?);
-    (second.0 >= DOUBT && second.0 >= CLEAR * best.0).then_some(best.1)
+    (second.0 >= t.doubt && second.0 >= t.clear * best.0).then_some(best.1)
 }
 
 /// Numbers the marks of each stretch that began with a new numbering (`starts`: the frames'
@@ -194,6 +207,7 @@ pub fn number_across_losses(
     frames: &mut [FrameMarks],
     sigma: &mut [[Option<f64>; 4]],
     starts: &[usize],
+    t: &JoinTuning,
 ) -> Joined {
     let mut bounds: Vec<usize> = std::iter::once(0).chain(starts.iter().copied()).collect();
     bounds.push(frames.len());
@@ -206,13 +220,13 @@ pub fn number_across_losses(
     let mut groups: Vec<Vec<usize>> = Vec::new();
     let mut joined = Joined::default();
     for (s, range) in stretches.iter().enumerate() {
-        let after = window(frames, range.clone(), false);
+        let after = window(frames, range.clone(), false, t);
         let mut settled = None;
         for (g, group) in groups.iter().enumerate().rev() {
             let last = &stretches[*group.last().expect("a group has a stretch")];
-            let mut before = window(frames, last.clone(), true);
+            let mut before = window(frames, last.clone(), true, t);
             before.reverse();
-            if let Some(k) = settle(&before, &after) {
+            if let Some(k) = settle(&before, &after, t) {
                 settled = Some((g, k));
                 break;
             }
@@ -255,6 +269,7 @@ pub fn number_across_losses(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::tuning::JoinTuning;
 
     /// Four marks on a tilted circle's ellipse whose phase is `a`, numbered from `first`.
     fn marks(a: f64, first: usize, jitter: f64) -> FrameMarks {
@@ -297,7 +312,7 @@ mod tests {
         // 40 frames lost while the ring turns 2.7 rad: the nearest places would misnumber.
         let mut frames = film(300, 80..120, 3, 0.0);
         let mut sigma = vec![[Some(0.2); 4]; 300];
-        let joined = number_across_losses(&mut frames, &mut sigma, &[120]);
+        let joined = number_across_losses(&mut frames, &mut sigma, &[120], &JoinTuning::default());
         assert_eq!(joined, Joined { settled: 1, unsettled: 0, marks_left_out: 0 });
         assert_eq!(frames, film(300, 80..120, 0, 0.0));
     }
@@ -309,7 +324,7 @@ mod tests {
         let extra = std::f64::consts::FRAC_PI_4;
         let mut frames = film(300, 80..120, 1, extra);
         let mut sigma = vec![[Some(0.2); 4]; 300];
-        let joined = number_across_losses(&mut frames, &mut sigma, &[120]);
+        let joined = number_across_losses(&mut frames, &mut sigma, &[120], &JoinTuning::default());
         assert_eq!(joined, Joined { settled: 0, unsettled: 1, marks_left_out: 320 });
         assert!(frames[..120].iter().flatten().all(Option::is_none));
         assert!(sigma[..120].iter().flatten().all(Option::is_none));
@@ -321,7 +336,8 @@ mod tests {
             f.rotate_left(2);
         }
         let mut sigma = vec![[Some(0.2); 4]; 300];
-        let joined = number_across_losses(&mut frames, &mut sigma, &[120, 210]);
+        let joined =
+            number_across_losses(&mut frames, &mut sigma, &[120, 210], &JoinTuning::default());
         assert_eq!(joined, Joined { settled: 1, unsettled: 1, marks_left_out: 320 });
         let mut expected = film(300, 80..120, 1, extra);
         expected[200..210].fill([None; 4]);
